@@ -1,0 +1,5 @@
+# Every dependency comes from Debian's packages (scripts/install-deps.sh); nothing is downloaded.
+find_package(Eigen3 3.3 REQUIRED CONFIG)
+find_package(assimp REQUIRED CONFIG)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)

@@ -1,0 +1,84 @@
+#pragma once
+/// @file SurfaceBake.hpp
+/// The exact texel bake (DESIGN.md "Exact texels"): every texel square is clipped against every UV
+/// triangle that overlaps it, and the resulting pieces are kept, so that the position texture (PT)
+/// and vector-area texture (VAT) are exact and can be re-evaluated from moved vertices without
+/// rasterizing again (deforming meshes).
+
+#include <cstdint>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/Mesh.hpp"
+
+namespace hydrotex {
+
+/// Bake resolution. Any size from 16 to 4096 texels per side (powers of two or not).
+struct BakeSettings {
+  int width = 256;        ///< texels along u (16..4096)
+  int height = 256;       ///< texels along v (16..4096)
+  int tileSize = 16;      ///< texels per tile side for the hierarchy (DESIGN.md "Hierarchy")
+  /// One-line reason when a setting is out of range.
+  Status validate() const;
+};
+
+/// One piece of one triangle inside one texel: the polygon (texel square clipped to the UV
+/// triangle). Positions and area vectors of a piece are linear in the triangle's vertices, so
+/// these numbers are enough to re-evaluate from moved vertices.
+struct TexelPiece {
+  std::uint32_t triangle = 0;   ///< mesh triangle index
+  float areaFraction = 0.0f;    ///< piece UV area / triangle UV area (0..1]
+  float centroidBary1 = 0.0f;   ///< barycentric coordinate of the piece's UV centroid on vertex 1
+  float centroidBary2 = 0.0f;   ///< ... on vertex 2 (vertex 0's is 1 - b1 - b2)
+};
+
+/// The baked layout: which texels are covered and by which pieces. Covered texels are stored
+/// compactly (uncovered texels cost nothing) and ordered tile by tile (tiles in row-major order,
+/// texels in row-major order within a tile), so that a tile's texels are one contiguous range.
+struct SurfaceBake {
+  int width = 0;                            ///< texels along u
+  int height = 0;                           ///< texels along v
+  int tileSize = 16;                        ///< texels per tile side
+  std::vector<std::uint32_t> texelIndex;    ///< per covered texel: row * width + column (row 0 is v = 1, see Mesh.hpp)
+  std::vector<std::uint32_t> pieceStart;    ///< per covered texel: first piece; size = covered + 1
+  std::vector<TexelPiece> pieces;           ///< all pieces, grouped by covered texel
+  std::vector<std::uint32_t> tileStart;     ///< per tile (row-major): first covered texel; size = tiles + 1
+
+  /// Number of covered texels.
+  std::size_t coveredCount() const { return texelIndex.size(); }
+  /// Tiles along u.
+  int tilesX() const { return (width + tileSize - 1) / tileSize; }
+  /// Tiles along v.
+  int tilesY() const { return (height + tileSize - 1) / tileSize; }
+};
+
+/// Per covered texel surface quantities, in the body (mesh) frame, evaluated from a bake and the
+/// mesh's current vertex positions. Same order as SurfaceBake::texelIndex.
+struct SurfaceTextures {
+  int width = 0;                               ///< texels along u
+  int height = 0;                              ///< texels along v
+  /// PT: area-weighted centroid of the texel's pieces (m), shifted along the area vector so that
+  /// position . areaVector equals the exact sum over pieces (so enclosed volumes are exact).
+  std::vector<Eigen::Vector3f> position;
+  /// VAT: sum over pieces of piece area times the triangle's geometric unit normal (m^2).
+  std::vector<Eigen::Vector3f> areaVector;
+  /// Scalar area of the texel's pieces (m^2).
+  std::vector<float> area;
+  /// The texel square's edges mapped to the surface (m): d position / d u and d / d v times the
+  /// texel size, area-weighted over the pieces. Used to place the waterline inside a texel.
+  std::vector<Eigen::Vector3f> edgeU;
+  std::vector<Eigen::Vector3f> edgeV;
+
+  /// Number of covered texels.
+  std::size_t size() const { return position.size(); }
+};
+
+/// Bakes the UV layout of `mesh` at the given resolution. Errors: settings out of range, a UV
+/// layout that does not cover every triangle, non-finite UVs or positions.
+Expected<SurfaceBake> bakeSurface(const Mesh& mesh, const UvLayout& layout, const BakeSettings& settings);
+
+/// Evaluates PT, VAT, area and edges from a bake and vertex positions (the mesh's own, or moved
+/// ones of the same topology: deforming bodies). O(pieces).
+SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const UvLayout& layout);
+
+}  // namespace hydrotex

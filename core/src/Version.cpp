@@ -1,0 +1,5 @@
+#include "hydrotex/Version.hpp"
+
+namespace hydrotex {
+const char* versionString() { return "0.1.0"; }
+}  // namespace hydrotex
