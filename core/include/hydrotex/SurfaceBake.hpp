@@ -64,9 +64,12 @@ struct SurfaceTextures {
   std::vector<Eigen::Vector3f> areaVector;
   /// Scalar area of the texel's pieces (m^2).
   std::vector<float> area;
-  /// The texel square's edges mapped to the surface (m): d position / d u and d / d v times the
-  /// texel size, area-weighted over the pieces. Used to place the waterline inside a texel.
+  /// The texel square's edges mapped to the surface (m): d position / d u times the texel width
+  /// (1 / width), averaged over the pieces weighted by their UV area. Used to place the waterline
+  /// inside a texel.
   std::vector<Eigen::Vector3f> edgeU;
+  /// Same for d position / d v times the texel height (1 / height); v grows upwards (towards
+  /// row 0, Mesh.hpp).
   std::vector<Eigen::Vector3f> edgeV;
 
   /// Number of covered texels.
@@ -74,11 +77,15 @@ struct SurfaceTextures {
 };
 
 /// Bakes the UV layout of `mesh` at the given resolution. Errors: settings out of range, a UV
-/// layout that does not cover every triangle, non-finite UVs or positions.
+/// layout that does not cover every triangle, indices out of range, non-finite UVs or positions,
+/// UVs outside [0,1]^2 (by more than 1e-6), a UV triangle of zero area whose 3D area is not zero.
+/// Triangles degenerate both in UV and in 3D carry nothing and are skipped.
 Expected<SurfaceBake> bakeSurface(const Mesh& mesh, const UvLayout& layout, const BakeSettings& settings);
 
 /// Evaluates PT, VAT, area and edges from a bake and vertex positions (the mesh's own, or moved
-/// ones of the same topology: deforming bodies). O(pieces).
+/// ones of the same topology: deforming bodies). O(triangles + pieces). A texel whose pieces'
+/// area vectors nearly cancel (|A| < 0.1 area: it straddles opposite-facing charts) keeps its
+/// unshifted centroid. Pieces naming a triangle the mesh lacks are skipped (never a crash).
 SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const UvLayout& layout);
 
 }  // namespace hydrotex
