@@ -1,0 +1,199 @@
+#pragma once
+/// @file LiquidSurface.hpp
+/// The liquid a body sits in, behind one injected interface (as btVehicleRaycaster is for
+/// vehicles): a flat plane, a sum of Gerstner waves, a height grid fed by an external simulation,
+/// or a uniform medium without a free surface (a gas: everything is submerged).
+/// World frame, SI units, y up, gravity along -y (DESIGN.md "Units and axes").
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+
+namespace hydrotex {
+
+/// Query interface for the liquid. Implementations must be cheap and thread-safe for const calls:
+/// the texture path calls surfaceHeight() once per texel that may be wet.
+class LiquidSurface {
+ public:
+  virtual ~LiquidSurface() = default;
+
+  /// Height y (m) of the free surface above the world point (x, z) at `time` (s). A surface
+  /// without a free surface (hasFreeSurface() == false) returns +infinity.
+  virtual double surfaceHeight(double x, double z, double time) const = 0;
+
+  /// Velocity of the liquid (m/s, world) at a world point and time. Default: at rest.
+  virtual Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const;
+
+  /// Gauge pressure (Pa) at a world point: rho g (surfaceHeight - y) below a free surface, 0 above
+  /// it; for a medium without a free surface, the integral of rho(y) g from the point upwards (a
+  /// constant offset does not change the force on a closed body). `gravity` in m/s^2 (> 0).
+  virtual double pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const;
+
+  /// Density (kg/m^3) at a world point; the default returns density().
+  virtual double densityAt(const Eigen::Vector3d& worldPoint) const;
+
+  /// Nominal density of the liquid (kg/m^3), e.g. 1000 for fresh water, 1025 for sea water,
+  /// 1.225 for air at sea level. Used for stiffness and wherever one number is needed.
+  virtual double density() const = 0;
+
+  /// The plane's height (m) when the surface is a flat horizontal plane at every time; empty
+  /// otherwise. A flat surface enables the tile hierarchy and the exact polyhedral path.
+  virtual std::optional<double> flatHeight() const { return std::nullopt; }
+
+  /// False for a uniform medium (a gas): every point is submerged.
+  virtual bool hasFreeSurface() const { return true; }
+
+  /// One-line reason when the surface's parameters are unusable (non-positive density, NaN, ...).
+  virtual Status validate() const = 0;
+};
+
+/// A still, flat liquid surface: the plane y = height.
+class FlatSurface final : public LiquidSurface {
+ public:
+  /// Plane at `height` (m) of liquid of `density` (kg/m^3, default fresh water).
+  explicit FlatSurface(double height = 0.0, double density = 1000.0);
+
+  /// Returns height() everywhere.
+  double surfaceHeight(double x, double z, double time) const override;
+  /// Nominal density (kg/m^3).
+  double density() const override { return density_; }
+  /// Always the plane's height (m).
+  std::optional<double> flatHeight() const override { return height_; }
+  /// Error when the density is not positive and finite or the height is not finite.
+  Status validate() const override;
+
+  /// The plane's height (m).
+  double height() const { return height_; }
+  /// Moves the plane (m); e.g. a tide or a test sweeping the water level.
+  void setHeight(double height) { height_ = height; }
+
+ private:
+  double height_;
+  double density_;
+};
+
+/// One Gerstner (trochoidal) wave component (Tessendorf 2001, "Simulating Ocean Water", eq. 9).
+struct GerstnerWave {
+  double amplitude = 0.5;                                  ///< m (crest height above mean level)
+  double wavelength = 20.0;                                ///< m (> 0)
+  Eigen::Vector2d direction = Eigen::Vector2d(1.0, 0.0);   ///< travel direction in (x, z); normalised on use
+  double phase = 0.0;                                      ///< rad
+  double steepness = 0.5;                                  ///< 0 (sine wave) .. 1 (sharp crests); horizontal displacement factor
+};
+
+/// A sum of Gerstner waves on deep water over a mean level, with the deep-water dispersion
+/// relation omega^2 = g k. surfaceHeight() finds the surface point above (x, z) by a few
+/// fixed-point iterations on the horizontal displacement (exact for steepness 0).
+class GerstnerWaves final : public LiquidSurface {
+ public:
+  /// Waves over `meanLevel` (m) in liquid of `density` (kg/m^3); `gravity` (m/s^2) sets the
+  /// wave speeds.
+  GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel = 0.0, double density = 1000.0,
+                double gravity = 9.81);
+
+  /// Surface height (m) above (x, z) at `time` (s).
+  double surfaceHeight(double x, double z, double time) const override;
+  /// Orbital velocity of the liquid particle at the surface above the point, decaying as
+  /// exp(k (y - surface)) with depth (linear wave theory); zero above the surface.
+  Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
+  /// Nominal density (kg/m^3).
+  double density() const override { return density_; }
+  /// Error for a non-positive wavelength, negative amplitude, steepness outside [0, 1], NaN, or a
+  /// non-positive density or gravity.
+  Status validate() const override;
+
+  /// The wave components.
+  const std::vector<GerstnerWave>& waves() const { return waves_; }
+  /// Mean level (m).
+  double meanLevel() const { return meanLevel_; }
+
+ private:
+  struct Component {
+    double amplitude, waveNumber, omega, phase, steepness, dirX, dirZ;
+  };
+  /// Displacement (dx, dy, dz) of the surface point whose rest position is (x0, z0).
+  Eigen::Vector3d displacement(double x0, double z0, double time) const;
+
+  std::vector<GerstnerWave> waves_;
+  std::vector<Component> components_;
+  double meanLevel_;
+  double density_;
+  double gravity_;
+};
+
+/// A regular grid of surface heights and liquid velocities over (x, z), interpolated bilinearly,
+/// so that any external liquid simulation can be plugged in. Outside the grid the nearest edge
+/// value holds. Sample (i, j) lies at (originX + i * spacing, originZ + j * spacing), stored at
+/// index j * countX + i.
+class HeightGrid final : public LiquidSurface {
+ public:
+  /// Grid of countX x countZ samples (>= 2 each) with `spacing` (m, > 0), all heights `level`
+  /// (m) and velocities zero.
+  HeightGrid(int countX, int countZ, double spacing, double originX, double originZ, double level = 0.0,
+             double density = 1000.0);
+
+  /// Bilinear height (m); `time` is ignored (the owner updates the samples each step).
+  double surfaceHeight(double x, double z, double time) const override;
+  /// Bilinear surface velocity (m/s), the same at every depth below the surface; zero above.
+  Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
+  /// Nominal density (kg/m^3).
+  double density() const override { return density_; }
+  /// Error for a grid smaller than 2 x 2, a non-positive spacing or density, or a NaN sample.
+  Status validate() const override;
+
+  /// Samples along x.
+  int countX() const { return countX_; }
+  /// Samples along z.
+  int countZ() const { return countZ_; }
+  /// Height samples (m), index j * countX + i; write them each step.
+  std::vector<double>& heights() { return heights_; }
+  /// Height samples (m).
+  const std::vector<double>& heights() const { return heights_; }
+  /// Surface velocity samples (m/s, world), same indexing.
+  std::vector<Eigen::Vector3d>& velocities() { return velocities_; }
+  /// Surface velocity samples (m/s, world).
+  const std::vector<Eigen::Vector3d>& velocities() const { return velocities_; }
+
+ private:
+  int countX_, countZ_;
+  double spacing_, originX_, originZ_, density_;
+  std::vector<double> heights_;
+  std::vector<Eigen::Vector3d> velocities_;
+};
+
+/// A medium with no free surface (a gas, or a body deep under water): every point is submerged.
+/// Density rho(y) = rho0 exp(-(y - referenceHeight) / scaleHeight) (isothermal atmosphere, scale
+/// height about 8400 m for air); an infinite scale height gives a constant density.
+class UniformMedium final : public LiquidSurface {
+ public:
+  /// Medium of density `densityAtReference` (kg/m^3) at `referenceHeight` (m), decaying with
+  /// `scaleHeight` (m, > 0, may be +infinity).
+  explicit UniformMedium(double densityAtReference = 1.225, double scaleHeight = 8400.0,
+                         double referenceHeight = 0.0);
+
+  /// +infinity: there is no free surface.
+  double surfaceHeight(double x, double z, double time) const override;
+  /// Gauge pressure (Pa): integral of rho(y') g dy' from y to +infinity for a finite scale height
+  /// (rho0 g H exp(-(y - y0)/H)), rho0 g (y0 - y) for a constant density.
+  double pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const override;
+  /// rho(y) (kg/m^3).
+  double densityAt(const Eigen::Vector3d& worldPoint) const override;
+  /// Density at the reference height (kg/m^3).
+  double density() const override { return density0_; }
+  /// False: no free surface.
+  bool hasFreeSurface() const override { return false; }
+  /// Error for a non-positive density or scale height, or a NaN.
+  Status validate() const override;
+
+  /// Scale height (m).
+  double scaleHeight() const { return scaleHeight_; }
+  /// Reference height (m).
+  double referenceHeight() const { return referenceHeight_; }
+
+ private:
+  double density0_, scaleHeight_, referenceHeight_;
+};
+
+}  // namespace hydrotex

@@ -1,0 +1,96 @@
+#pragma once
+/// @file TextureHydrostatics.hpp
+/// The texture path (paper section 2.3; DESIGN.md "Pressure integration", "The waterline inside a
+/// texel", "Hierarchy"): hydrostatics as sums over the texels of a baked surface.
+///
+/// Built once per body from its bake and surface textures (and again when the mesh deforms);
+/// queried once per step. A query neither throws nor allocates.
+
+#include <cstdint>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/Hydrostatics.hpp"
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/SurfaceBake.hpp"
+
+namespace hydrotex {
+
+/// How a query walks the texels.
+enum class TexelTraversal {
+  Hierarchy,   ///< flat surfaces: tiles wholly under or over cost O(1); others fall back to BruteForce
+  BruteForce,  ///< every texel, every time (reference and benchmark baseline)
+};
+
+/// Settings of the per-body texture hydrostatics.
+struct TextureHydrostaticsSettings {
+  /// Texels per tile side for the hierarchy; 0 picks one from the resolution (about
+  /// sqrt(width) / 2, at least 4), which keeps both the tile loop and the waterline band short.
+  int tileSize = 0;
+};
+
+/// Per-body texture hydrostatics: texel data packed for the query and per-tile moments.
+class TextureHydrostatics {
+ public:
+  /// Packs the covered texels of `textures` (laid out by `bake`) into tiles and precomputes each
+  /// tile's moments (sum A, sum p A^T, sum p p^T A_k, area) and body-frame bounds in double.
+  /// Error when the two do not match in size or hold non-finite values.
+  static Expected<TextureHydrostatics> build(const SurfaceBake& bake, const SurfaceTextures& textures,
+                                             const TextureHydrostaticsSettings& settings = {});
+
+  /// Hydrostatics of the body posed by `query` in `surface`. Errors (as values): invalid query or
+  /// surface (see validateHydrostaticsQuery). For a flat surface the force is rho g V up and the
+  /// torque that of this force at the centre of buoyancy (Archimedes, exact given the sums); for
+  /// waves and grids, the sum of -p A over texels with p from the local surface height above each
+  /// texel; for a medium without a free surface, -p A with the medium's pressure.
+  Expected<HydrostaticsResult> query(const LiquidSurface& surface, const HydrostaticsQuery& query,
+                                     TexelTraversal traversal = TexelTraversal::Hierarchy) const;
+
+  /// Enclosed volume of the body from its texels (m^3): (1/3) sum p . A.
+  double enclosedVolume() const { return enclosedVolume_; }
+  /// Number of tiles.
+  std::size_t tileCount() const { return tiles_.size(); }
+  /// Texels per tile side in use.
+  int tileSize() const { return tileSize_; }
+  /// Number of covered texels.
+  std::size_t texelCount() const { return texels_.size(); }
+
+  /// One covered texel, packed for the query (single precision, as baked).
+  struct Texel {
+    float position[3];    ///< PT (m, body frame)
+    float areaVector[3];  ///< VAT (m^2, body frame)
+    float area;           ///< m^2
+    float edgeU[3];       ///< texel u edge on the surface (m, body frame)
+    float edgeV[3];       ///< texel v edge on the surface (m, body frame)
+  };
+
+  /// Moments of a set of texels in the body frame, in double, sufficient to evaluate every
+  /// hydrostatic sum of wholly submerged texels at any pose in O(1).
+  struct Moments {
+    double sumArea = 0.0;                  ///< sum |A| (m^2)
+    double sumA[3] = {0, 0, 0};            ///< sum A_k (m^2)
+    double sumPA[3][3] = {};               ///< sum p_i A_k (m^3)
+    double sumPPA[6][3] = {};              ///< sum p_i p_j A_k, (i,j) in xx, xy, xz, yy, yz, zz (m^4)
+    /// Adds another set.
+    void add(const Moments& other);
+  };
+
+  /// A tile: a contiguous range of texels, its moments and body-frame bounds of its texel patches.
+  struct Tile {
+    std::uint32_t begin = 0, end = 0;     ///< texel range
+    Moments moments;                      ///< of its texels
+    Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();       ///< m, body frame
+    Eigen::Vector3d boundsHalfExtent = Eigen::Vector3d::Zero();   ///< m, body frame
+  };
+
+ private:
+  std::vector<Texel> texels_;
+  std::vector<Tile> tiles_;
+  Moments total_;
+  Eigen::Vector3d boundsCenter_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d boundsHalfExtent_ = Eigen::Vector3d::Zero();
+  double enclosedVolume_ = 0.0;
+  int tileSize_ = 0;
+};
+
+}  // namespace hydrotex
