@@ -56,7 +56,7 @@ struct MeshReport {
 /// degenerate triangles.
 MeshReport validateMesh(const Mesh& mesh);
 
-/// Ok when the mesh is closed; otherwise the message used where a closed volume is required, e.g.
+/// Ok when the mesh is closed and outward oriented (watertight, positive volume); otherwise the message used where a closed volume is required, e.g.
 /// "ship.obj: mesh is open (12 boundary edges); volume and buoyancy need a closed mesh".
 /// `what` names the mesh (usually its file name).
 Status requireClosed(const MeshReport& report, const std::string& what);
