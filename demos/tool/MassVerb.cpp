@@ -1,0 +1,106 @@
+// `hydrotex mass MESH [--method exact|texture] [--resolution N] [--density KG_M3]
+//                     [--density-map PNG --density-range MIN,MAX] [--json]`
+
+#include <cmath>
+#include <sstream>
+
+#include "ToolSupport.hpp"
+#include "Verbs.hpp"
+#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/MeshIO.hpp"
+
+namespace hydrotex::tool {
+
+namespace {
+struct MassOptions {
+  std::string meshPath;
+  std::string method = "texture";
+  int resolution = 256;
+  double density = 1000.0;
+  std::string densityMapPath;
+  std::vector<double> densityRange;
+  bool json = false;
+};
+
+Expected<MassProperties> textureMass(const MassOptions& options) {
+  BodyGeometrySettings settings;
+  settings.bake.width = settings.bake.height = options.resolution;
+  Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
+  if (!body) return body.error();
+
+  TextureMassModel model;
+  model.solidDensity = options.density;
+  if (!options.densityMapPath.empty()) {
+    Expected<ImageMap> image = loadImageMap(options.densityMapPath);
+    if (!image) return image.error();
+    const double low = options.densityRange[0], high = options.densityRange[1];
+    model.texelDensity = resampleToTexels(*image, body->bake);
+    for (float& value : model.texelDensity) value = static_cast<float>(low + (high - low) * value);
+    // The cone apex: the uniform solid's centre of mass, which lies inside convex bodies; for
+    // others the cones are signed and still sum to the body.
+    TextureMassModel uniform;
+    model.referencePoint = textureMassProperties(body->textures, uniform).centerOfMass;
+  }
+  return textureMassProperties(body->textures, model);
+}
+
+int runMass(const MassOptions& options) {
+  if (!options.densityMapPath.empty() && options.method != "texture")
+    return reportError(Error{"--density-map needs --method texture (the exact path is uniform)"});
+  if (!options.densityMapPath.empty() && options.densityRange.size() != 2)
+    return reportError(Error{"--density-map needs --density-range MIN,MAX (kg/m^3 for black and white)"});
+
+  Expected<MassProperties> mass = Error{""};
+  if (options.method == "exact") {
+    Expected<Mesh> mesh = loadMesh(options.meshPath);
+    if (!mesh) return reportError(mesh.error());
+    mass = polyhedralMassProperties(*mesh, options.density);
+    if (!mass) return reportError(Error{options.meshPath + ": " + mass.error().message});
+  } else {
+    mass = textureMass(options);
+    if (!mass) return reportError(mass.error());
+  }
+
+  nlohmann::json out;
+  out["mass"] = mass->mass;
+  out["volume"] = mass->volume;
+  out["center_of_mass"] = toJson(mass->centerOfMass);
+  out["inertia"] = toJson(mass->inertia);
+  out["method"] = options.method;
+  out["resolution"] = options.method == "texture" ? nlohmann::json(options.resolution) : nlohmann::json(nullptr);
+
+  std::ostringstream text;
+  text.precision(8);
+  text << options.meshPath << " (" << options.method;
+  if (options.method == "texture") text << ", " << options.resolution << "^2 texels";
+  text << ")\n  mass           " << mass->mass << " kg\n  volume         " << mass->volume
+       << " m^3\n  centre of mass " << formatVector(mass->centerOfMass) << " m\n  inertia about the centre of mass (kg m^2):\n";
+  for (int r = 0; r < 3; ++r)
+    text << "    " << mass->inertia(r, 0) << "  " << mass->inertia(r, 1) << "  " << mass->inertia(r, 2) << "\n";
+  printResult(options.json, out, text.str());
+  return 0;
+}
+}  // namespace
+
+void addMassVerb(CLI::App& app, VerbAction& action) {
+  auto options = std::make_shared<MassOptions>();
+  CLI::App* verb = app.add_subcommand("mass", "mass, volume, centre of mass and inertia of a closed mesh");
+  verb->add_option("MESH", options->meshPath, "closed mesh file")->required();
+  verb->add_option("--method", options->method, "exact (polyhedral) or texture")
+      ->check(CLI::IsMember({"exact", "texture"}));
+  addResolutionOption(*verb, options->resolution);
+  verb->add_option("--density", options->density, "uniform solid density (kg/m^3)")
+      ->check(CLI::PositiveNumber);
+  verb->add_option("--density-map", options->densityMapPath, "PNG whose gray level sets the density")
+      ->check(CLI::ExistingFile);
+  verb->add_option("--density-range", options->densityRange, "MIN,MAX density (kg/m^3) for black and white")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::NonNegativeNumber);
+  verb->add_flag("--json", options->json, "print one JSON object");
+  verb->callback([options, &action] { action = [options] { return runMass(*options); }; });
+}
+
+}  // namespace hydrotex::tool

@@ -1,0 +1,57 @@
+#include "ToolSupport.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+namespace hydrotex::tool {
+
+CLI::Option* addVector3Option(CLI::App& app, const std::string& name, Eigen::Vector3d& target,
+                              const std::string& description) {
+  return app.add_option_function<std::vector<double>>(
+               name,
+               [&target, name](const std::vector<double>& values) {
+                 if (values.size() != 3) throw CLI::ValidationError(name, "expects three numbers X,Y,Z");
+                 for (double value : values)
+                   if (!std::isfinite(value)) throw CLI::ValidationError(name, "must be finite numbers");
+                 target = Eigen::Vector3d(values[0], values[1], values[2]);
+               },
+               description)
+      ->delimiter(',')
+      ->expected(3);
+}
+
+CLI::Option* addResolutionOption(CLI::App& app, int& resolution) {
+  return app.add_option("--resolution", resolution, "texels per side of the bake (16..4096)")
+      ->check(CLI::Range(16, 4096));
+}
+
+int reportError(const Error& error) {
+  std::cerr << "hydrotex: " << error.message << "\n";
+  return 1;
+}
+
+nlohmann::json toJson(const Eigen::Vector3d& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+
+nlohmann::json toJson(const Eigen::Matrix3d& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back(toJson(Eigen::Vector3d(m.row(r).transpose())));
+  return rows;
+}
+
+void printResult(bool json, const nlohmann::json& object, const std::string& text) {
+  if (json)
+    std::cout << object.dump() << "\n";
+  else
+    std::cout << text;
+}
+
+std::string formatVector(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return out.str();
+}
+
+}  // namespace hydrotex::tool

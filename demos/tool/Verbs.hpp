@@ -1,0 +1,24 @@
+#pragma once
+// The verbs of the `hydrotex` tool. Each registers itself on the CLI11 app and sets the action to
+// run when it is chosen; the action returns the process exit code.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace hydrotex::tool {
+
+/// What main() runs once the command line is parsed: returns the exit code.
+using VerbAction = std::function<int()>;
+
+/// `hydrotex inspect MESH [--json]`: counts, watertightness, UVs, area, volume, bounds.
+void addInspectVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex mass MESH ...`: mass, volume, centre of mass and inertia, exact or texture.
+void addMassVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex bake MESH --resolution N --out DIR`: PT, VAT and coverage as images and float data.
+void addBakeVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex hydrostatics MESH ...`: submerged volume, buoyancy, waterplane, stiffness at a pose.
+void addHydrostaticsVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene in Bullet.
+void addSimulateVerb(CLI::App& app, VerbAction& action);
+
+}  // namespace hydrotex::tool
