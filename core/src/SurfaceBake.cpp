@@ -3,6 +3,7 @@
 // double), and the pieces are kept so that PT and VAT can be re-evaluated from moved vertices.
 #include "hydrotex/SurfaceBake.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
