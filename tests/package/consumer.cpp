@@ -1,0 +1,17 @@
+// Compiles and runs against an installed hydrotex: the volume of a unit box through the public API.
+#include <cmath>
+#include <cstdio>
+
+#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/Primitives.hpp"
+
+int main() {
+  const hydrotex::Mesh box = hydrotex::primitives::box(Eigen::Vector3d(1.0, 2.0, 3.0));
+  const hydrotex::Expected<hydrotex::MassProperties> mass = hydrotex::polyhedralMassProperties(box, 1000.0);
+  if (!mass || std::abs(mass->volume - 6.0) > 1e-12) {
+    std::fprintf(stderr, "consumer: wrong volume\n");
+    return 1;
+  }
+  std::printf("consumer: installed hydrotex works, volume %.3f m^3\n", mass->volume);
+  return 0;
+}

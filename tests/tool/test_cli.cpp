@@ -1,0 +1,146 @@
+// The `hydrotex` tool as a user meets it: JSON keys and values on good input; a one-line message
+// naming the file or value and a non-zero exit on bad input, never a crash.
+
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "TestPaths.hpp"
+
+namespace {
+
+struct ToolRun {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string readFile(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+/// Runs the tool with `arguments` (already shell-quoted where needed).
+ToolRun runTool(const std::string& arguments) {
+  static int counter = 0;
+  const std::string base = hydrotex::test::outputPath("cli_run_" + std::to_string(++counter));
+  const std::string command = std::string(HYDROTEX_TOOL_PATH) + " " + arguments + " >" + base + ".out 2>" + base + ".err";
+  const int status = std::system(command.c_str());
+  ToolRun run;
+  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.out = readFile(base + ".out");
+  run.err = readFile(base + ".err");
+  return run;
+}
+
+std::string writeScratch(const std::string& name, const std::string& content) {
+  const std::string path = hydrotex::test::outputPath(name);
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+/// Exactly one line on stderr, mentioning `needle`; a failing exit code that is not a crash.
+void requireCleanFailure(const ToolRun& run, const std::string& needle) {
+  INFO("stderr: " << run.err);
+  CHECK(run.exitCode != 0);
+  CHECK(run.exitCode < 128);  // not killed by a signal
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK(run.err.find(needle) != std::string::npos);
+  CHECK(run.out.empty());
+}
+
+const std::string kBox = hydrotex::test::sourcePath("data/meshes/box.obj");
+
+}  // namespace
+
+TEST_CASE("inspect reports the bundled unit box", "[tool]") {
+  const ToolRun run = runTool("inspect " + kBox + " --json");
+  REQUIRE(run.exitCode == 0);
+  const auto json = nlohmann::json::parse(run.out);
+  CHECK(json["triangles"] == 12);
+  CHECK(json["vertices"] == 8);
+  CHECK(json["watertight"] == true);
+  CHECK(json["has_uv"] == true);
+  CHECK(json["uv_overlap"] == false);
+  CHECK(json["degenerate_triangles"] == 0);
+  // The OBJ stores float32 coordinates of +-0.5, which are exact: area and volume are exact too.
+  CHECK(json["area"].get<double>() == Approx(6.0).epsilon(1e-12));
+  CHECK(json["volume"].get<double>() == Approx(1.0).epsilon(1e-12));
+  CHECK(json["bounds_min"][0].get<double>() == -0.5);
+  CHECK(json["bounds_max"][1].get<double>() == 0.5);
+}
+
+TEST_CASE("mass: exact and texture agree with the closed form of a unit cube", "[tool]") {
+  // Unit cube, 1000 kg/m^3: mass 1000 kg, inertia m (a^2 + a^2) / 12 = 1000/6 kg m^2 about each axis.
+  const ToolRun exact = runTool("mass " + kBox + " --method exact --json");
+  REQUIRE(exact.exitCode == 0);
+  const auto e = nlohmann::json::parse(exact.out);
+  CHECK(e["mass"].get<double>() == Approx(1000.0).epsilon(1e-12));
+  CHECK(e["inertia"][0][0].get<double>() == Approx(1000.0 / 6.0).epsilon(1e-12));
+  CHECK(e["method"] == "exact");
+
+  const ToolRun texture = runTool("mass " + kBox + " --method texture --resolution 128 --json");
+  REQUIRE(texture.exitCode == 0);
+  const auto t = nlohmann::json::parse(texture.out);
+  // Texel volumes are exact up to float storage of PT and VAT (~1e-7 relative per texel).
+  CHECK(t["mass"].get<double>() == Approx(1000.0).epsilon(1e-5));
+  CHECK(t["resolution"] == 128);
+  // Centre and inertia converge with the texel size (1/128 of a face): a few 1e-3 at 128^2.
+  CHECK(std::abs(t["center_of_mass"][1].get<double>()) < 5e-3);
+  CHECK(t["inertia"][1][1].get<double>() == Approx(1000.0 / 6.0).epsilon(1e-2));
+}
+
+TEST_CASE("hydrostatics of the unit box half under water", "[tool]") {
+  for (const char* method : {"exact", "texture"}) {
+    const ToolRun run = runTool("hydrostatics " + kBox + " --method " + method + " --water-level 0 --json");
+    REQUIRE(run.exitCode == 0);
+    const auto json = nlohmann::json::parse(run.out);
+    // Half the cube under: V = 0.5 m^3, B at y = -0.25, F = rho g V, A_wp = 1 m^2. The texture
+    // path is exact for a flat face cut by a flat surface up to float storage (1e-5).
+    CHECK(json["submerged_volume"].get<double>() == Approx(0.5).epsilon(1e-5));
+    CHECK(json["center_of_buoyancy"][1].get<double>() == Approx(-0.25).epsilon(1e-4));
+    CHECK(json["buoyancy_force"][1].get<double>() == Approx(1000.0 * 9.81 * 0.5).epsilon(1e-5));
+    CHECK(json["waterplane_area"].get<double>() == Approx(1.0).epsilon(1e-4));
+    CHECK(json["method"] == method);
+  }
+}
+
+TEST_CASE("bake writes pictures and float data", "[tool]") {
+  const std::string out = hydrotex::test::outputPath("bake_box");
+  std::filesystem::remove_all(out);
+  const ToolRun run = runTool("bake " + kBox + " --resolution 64 --out " + out);
+  REQUIRE(run.exitCode == 0);
+  for (const char* file : {"position.png", "normal.png", "area.png", "coverage.png", "position.pfm", "area_vector.pfm"})
+    CHECK(std::filesystem::file_size(out + "/" + file) > 0);
+  // 64 x 64 texels of 3 floats, plus the PFM header.
+  CHECK(std::filesystem::file_size(out + "/position.pfm") > 64u * 64u * 12u);
+}
+
+TEST_CASE("bad input gets one line and a non-zero exit", "[tool][bad-input]") {
+  const std::string missing = hydrotex::test::outputPath("does_not_exist.obj");
+  requireCleanFailure(runTool("inspect " + missing), "does_not_exist.obj");
+  requireCleanFailure(runTool("mass " + writeScratch("empty.obj", "")), "empty.obj");
+  requireCleanFailure(runTool("mass " + writeScratch("garbage.stl", std::string("\x01\x02garbage\xff\x00\x13", 12))),
+                      "garbage.stl");
+  requireCleanFailure(runTool("mass " + writeScratch("no_triangles.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n")),
+                      "no_triangles.obj");
+  requireCleanFailure(runTool("mass " + writeScratch("nan_vertex.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                                       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")),
+                      "nan_vertex.obj");
+  requireCleanFailure(runTool("mass " + writeScratch("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")),
+                      "open.obj");
+  requireCleanFailure(runTool("mass " + kBox + " --resolution 0"), "resolution");
+  requireCleanFailure(runTool("mass " + kBox + " --resolution 100000"), "resolution");
+  requireCleanFailure(runTool("hydrostatics " + kBox + " --fluid-density -5"), "fluid-density");
+  requireCleanFailure(runTool("hydrostatics " + kBox + " --translate 1,2"), "translate");
+  requireCleanFailure(runTool("hydrostatics " + kBox + " --rotate-deg nan,0,0"), "rotate-deg");
+  requireCleanFailure(runTool("frobnicate " + kBox), "frobnicate");
+}
