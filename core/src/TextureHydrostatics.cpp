@@ -1,0 +1,248 @@
+/// @file TextureHydrostatics.cpp
+/// Hydrostatics as texel sums (paper section 2.3.1, generalised to pressure integration as in
+/// DESIGN.md): each texel is the planar patch p + s eU + t eV, s, t in [-1/2, 1/2], and the part of
+/// it under the surface is weighted exactly for that patch (HydrostaticSums.hpp,
+/// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1).
+
+#include "hydrotex/TextureHydrostatics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "HydrostaticSums.hpp"
+
+namespace hydrotex {
+
+namespace {
+
+using Texel = TextureHydrostatics::Texel;
+using Moments = TextureHydrostatics::Moments;
+
+void addTexelMoments(Moments& m, const Texel& t) {
+  const double p[3] = {t.position[0], t.position[1], t.position[2]};
+  const double pairs[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
+  m.sumArea += t.area;
+  for (int k = 0; k < 3; ++k) {
+    const double a = t.areaVector[k];
+    m.sumA[k] += a;
+    for (int i = 0; i < 3; ++i) m.sumPA[i][k] += p[i] * a;
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][k] += pairs[pair] * a;
+  }
+}
+
+/// The world-frame quantities of one texel under a rigid pose: x' = R p + offset, A' = R A.
+struct PosedTexel {
+  double x, y, z, ax, ay, az;
+};
+
+inline PosedTexel pose(const Texel& t, const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
+  const double px = t.position[0], py = t.position[1], pz = t.position[2];
+  const double ax = t.areaVector[0], ay = t.areaVector[1], az = t.areaVector[2];
+  return {r(0, 0) * px + r(0, 1) * py + r(0, 2) * pz + offset.x(),
+          r(1, 0) * px + r(1, 1) * py + r(1, 2) * pz + offset.y(),
+          r(2, 0) * px + r(2, 1) * py + r(2, 2) * pz + offset.z(),
+          r(0, 0) * ax + r(0, 1) * ay + r(0, 2) * az,
+          r(1, 0) * ax + r(1, 1) * ay + r(1, 2) * az,
+          r(2, 0) * ax + r(2, 1) * ay + r(2, 2) * az};
+}
+
+/// Vertical extents of the texel's edges: a = |eU'.y|, b = |eV'.y|.
+inline void verticalEdges(const Texel& t, const Eigen::Matrix3d& r, double& a, double& b) {
+  a = r(1, 0) * t.edgeU[0] + r(1, 1) * t.edgeU[1] + r(1, 2) * t.edgeU[2];
+  b = r(1, 0) * t.edgeV[0] + r(1, 1) * t.edgeV[1] + r(1, 2) * t.edgeV[2];
+}
+
+/// One texel under a flat surface at y' = 0 (depth of its centre d = -y').
+inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::Matrix3d& r,
+                         const Eigen::Vector3d& offset) {
+  double a, b;
+  verticalEdges(t, r, a, b);
+  const double depth = -(r(1, 0) * t.position[0] + r(1, 1) * t.position[1] + r(1, 2) * t.position[2] + offset.y());
+  const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+  if (depth <= -halfSpan) return;  // dry
+  const PosedTexel w = pose(t, r, offset);
+  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
+  sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
+}
+
+/// Vertical range of a body-frame box under the rotation's y row and a vertical offset.
+inline void verticalRange(const Eigen::Vector3d& center, const Eigen::Vector3d& halfExtent, const Eigen::Matrix3d& r,
+                          double offsetY, double& low, double& high) {
+  const double c = r(1, 0) * center.x() + r(1, 1) * center.y() + r(1, 2) * center.z() + offsetY;
+  const double h = std::abs(r(1, 0)) * halfExtent.x() + std::abs(r(1, 1)) * halfExtent.y() +
+                   std::abs(r(1, 2)) * halfExtent.z();
+  low = c - h;
+  high = c + h;
+}
+
+}  // namespace
+
+void TextureHydrostatics::Moments::add(const Moments& o) {
+  sumArea += o.sumArea;
+  for (int k = 0; k < 3; ++k) {
+    sumA[k] += o.sumA[k];
+    for (int i = 0; i < 3; ++i) sumPA[i][k] += o.sumPA[i][k];
+    for (int pair = 0; pair < 6; ++pair) sumPPA[pair][k] += o.sumPPA[pair][k];
+  }
+}
+
+Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake, const SurfaceTextures& textures,
+                                                         const TextureHydrostaticsSettings& settings) {
+  const std::size_t count = bake.coveredCount();
+  if (textures.size() != count || textures.areaVector.size() != count || textures.area.size() != count ||
+      textures.edgeU.size() != count || textures.edgeV.size() != count)
+    return Error{"texture hydrostatics: surface textures hold " + std::to_string(textures.size()) +
+                 " texels, the bake covers " + std::to_string(count)};
+  if (bake.width <= 0 || bake.height <= 0 || textures.width != bake.width || textures.height != bake.height)
+    return Error{"texture hydrostatics: bake and textures differ in resolution"};
+  if (settings.tileSize < 0) return Error{"texture hydrostatics: tile size " + std::to_string(settings.tileSize) + " is negative"};
+
+  TextureHydrostatics out;
+  // About sqrt(width)/2 texels per tile balances the O(tiles) loop against the O(waterline band)
+  // texel work (bench_hydrostatics).
+  out.tileSize_ = settings.tileSize > 0 ? settings.tileSize
+                                        : std::max(4, int(std::lround(0.5 * std::sqrt(double(bake.width)))));
+  const int tileSize = out.tileSize_;
+  const int tilesX = (bake.width + tileSize - 1) / tileSize;
+  const int tilesY = (bake.height + tileSize - 1) / tileSize;
+
+  // Counting sort of the texels by our own tile (the bake's tile size may differ).
+  std::vector<std::uint32_t> tileOf(count);
+  std::vector<std::uint32_t> tileCount(std::size_t(tilesX) * std::size_t(tilesY) + 1, 0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint32_t index = bake.texelIndex[i];
+    const int row = int(index / std::uint32_t(bake.width)), column = int(index % std::uint32_t(bake.width));
+    if (row >= bake.height) return Error{"texture hydrostatics: bake texel " + std::to_string(i) + " lies outside the image"};
+    tileOf[i] = std::uint32_t((row / tileSize) * tilesX + column / tileSize);
+    ++tileCount[tileOf[i] + 1];
+  }
+  for (std::size_t t = 1; t < tileCount.size(); ++t) tileCount[t] += tileCount[t - 1];
+  std::vector<std::uint32_t> cursor(tileCount.begin(), tileCount.end() - 1);
+  out.texels_.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3f& p = textures.position[i];
+    const Eigen::Vector3f& a = textures.areaVector[i];
+    const Eigen::Vector3f& u = textures.edgeU[i];
+    const Eigen::Vector3f& v = textures.edgeV[i];
+    if (!p.allFinite() || !a.allFinite() || !u.allFinite() || !v.allFinite() || !std::isfinite(textures.area[i]))
+      return Error{"texture hydrostatics: texel " + std::to_string(i) + " has a non-finite value"};
+    out.texels_[cursor[tileOf[i]]++] = Texel{{p.x(), p.y(), p.z()}, {a.x(), a.y(), a.z()}, textures.area[i],
+                                             {u.x(), u.y(), u.z()}, {v.x(), v.y(), v.z()}};
+  }
+
+  Eigen::Vector3d bodyLow = Eigen::Vector3d::Constant(INFINITY), bodyHigh = Eigen::Vector3d::Constant(-INFINITY);
+  double tripleVolume = 0.0;
+  for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
+    if (tileCount[t] == tileCount[t + 1]) continue;
+    Tile tile;
+    tile.begin = tileCount[t];
+    tile.end = tileCount[t + 1];
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
+    for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+      const Texel& texel = out.texels_[i];
+      addTexelMoments(tile.moments, texel);
+      const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
+      // The patch p + s eU + t eV lies within p +- (|eU| + |eV|) / 2 per axis.
+      const Eigen::Vector3d reach =
+          0.5 * (Eigen::Vector3d(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]).cwiseAbs() +
+                 Eigen::Vector3d(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]).cwiseAbs());
+      low = low.cwiseMin(p - reach);
+      high = high.cwiseMax(p + reach);
+      tripleVolume += p.dot(Eigen::Vector3d(texel.areaVector[0], texel.areaVector[1], texel.areaVector[2]));
+    }
+    tile.boundsCenter = 0.5 * (low + high);
+    tile.boundsHalfExtent = 0.5 * (high - low);
+    out.total_.add(tile.moments);
+    bodyLow = bodyLow.cwiseMin(low);
+    bodyHigh = bodyHigh.cwiseMax(high);
+    out.tiles_.push_back(tile);
+  }
+  if (out.tiles_.empty()) return Error{"texture hydrostatics: the bake covers no texel"};
+  out.boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
+  out.boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);
+  out.enclosedVolume_ = tripleVolume / 3.0;
+  return out;
+}
+
+Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& surface, const HydrostaticsQuery& q,
+                                                        TexelTraversal traversal) const {
+  if (Status valid = validateHydrostaticsQuery(surface, q); !valid) return valid.error();
+  const Eigen::Matrix3d& r = q.pose.rotation;
+  const Eigen::Vector3d& t = q.pose.translation;
+  detail::WettedSums sums;
+
+  if (!surface.hasFreeSurface()) {
+    // A medium: every texel is submerged; pressure from the medium at each texel centre.
+    const Eigen::Vector3d origin = t;
+    for (const Texel& texel : texels_) {
+      const PosedTexel w = pose(texel, r, Eigen::Vector3d::Zero());
+      sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, 1.0, -w.y, w.y * w.y, 0.0);
+      const double p = surface.pressure(Eigen::Vector3d(w.x, w.y, w.z) + origin, q.time, q.gravity);
+      const Eigen::Vector3d force = -p * Eigen::Vector3d(w.ax, w.ay, w.az);
+      const Eigen::Vector3d torque = Eigen::Vector3d(w.x, w.y, w.z).cross(force);
+      for (int k = 0; k < 3; ++k) {
+        sums.pressureForce[k] += force[k];
+        sums.pressureTorque[k] += torque[k];
+      }
+    }
+    return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, false);
+  }
+
+  if (const std::optional<double> flat = surface.flatHeight()) {
+    const Eigen::Vector3d origin(t.x(), *flat, t.z());
+    const Eigen::Vector3d offset = t - origin;  // (0, t_y - h, 0)
+    if (traversal == TexelTraversal::BruteForce) {
+      for (const Texel& texel : texels_) addFlatTexel(sums, texel, r, offset);
+    } else {
+      double low, high;
+      verticalRange(boundsCenter_, boundsHalfExtent_, r, offset.y(), low, high);
+      if (low >= 0.0) return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::Archimedes, true);
+      Moments under;
+      if (high <= 0.0) {
+        under = total_;
+      } else {
+        for (const Tile& tile : tiles_) {
+          verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
+          if (low >= 0.0) continue;
+          if (high <= 0.0) {
+            under.add(tile.moments);
+            continue;
+          }
+          for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], r, offset);
+        }
+      }
+      sums.addSubmergedMoments(under, r, offset);
+    }
+    return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::Archimedes, true);
+  }
+
+  // Waves and grids: the local surface height above each texel centre, the texel taken as a
+  // patch under a locally level surface (the surface's slope over one texel is neglected).
+  const Eigen::Vector3d centerOfMass = q.pose.apply(q.centerOfMass);
+  const Eigen::Vector3d origin(t.x(), surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), q.time), t.z());
+  if (!std::isfinite(origin.y())) return Error{"texture hydrostatics: the liquid surface height is not finite"};
+  const Eigen::Vector3d offset = t - origin;
+  const double rhoG = surface.density() * q.gravity;
+  for (const Texel& texel : texels_) {
+    const PosedTexel w = pose(texel, r, offset);
+    const double localHeight = surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time) - origin.y();
+    double a, b;
+    verticalEdges(texel, r, a, b);
+    const double depth = localHeight - w.y;
+    if (!(depth > -0.5 * (std::abs(a) + std::abs(b)))) continue;  // dry (or a NaN height)
+    const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
+    sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
+    const double p = rhoG * f.depth;
+    const double fx = -p * w.ax, fy = -p * w.ay, fz = -p * w.az;
+    sums.pressureForce[0] += fx;
+    sums.pressureForce[1] += fy;
+    sums.pressureForce[2] += fz;
+    sums.pressureTorque[0] += w.y * fz - w.z * fy;
+    sums.pressureTorque[1] += w.z * fx - w.x * fz;
+    sums.pressureTorque[2] += w.x * fy - w.y * fx;
+  }
+  return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, true);
+}
+
+}  // namespace hydrotex
