@@ -1,0 +1,143 @@
+#pragma once
+/// @file BuoyancyController.hpp
+/// The drop-in object: one btActionInterface that makes registered rigid bodies float, tip and
+/// sink in a liquid (or rise in a gas). Added to a world with world->addAction(&controller);
+/// updateAction runs once per fixed sub-step, after Bullet integrated the bodies.
+
+#include <btBulletDynamicsCommon.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/Hydrostatics.hpp"
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/bullet/FloatingBodySettings.hpp"
+
+namespace hydrotex::bullet {
+
+/// The liquid (or gas) the bodies are in.
+struct LiquidSettings {
+  /// Free surface, density and velocity field; shared with whoever moves it (waves, a grid fed
+  /// by a liquid simulation). Required.
+  std::shared_ptr<const LiquidSurface> surface;
+  /// Dynamic viscosity (Pa s): 1.0e-3 for water at 20 C, 1.8e-5 for air.
+  double viscosity = 1.0e-3;
+  /// Uniform current (m/s, world) added to the surface's own velocity field.
+  btVector3 current{0, 0, 0};
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
+
+/// Controller-wide tuning (rest detection, debug drawing).
+struct ControllerSettings {
+  /// A body is at rest afloat when |net force| < this * m g ...
+  double restForceFraction = 0.01;
+  /// ... its speed is below this (m/s) ...
+  double restLinearSpeed = 0.02;
+  /// ... and its angular speed below this (rad/s). Until then it is kept awake, whatever
+  /// Bullet's own sleeping thresholds (0.8 m/s, 1 rad/s for 2 s) say.
+  double restAngularSpeed = 0.02;
+  /// Length of the debug force arrows per newton of force (m/N); 0 picks one per body so that
+  /// the weight arrow is as long as the body.
+  double debugMetersPerNewton = 0.0;
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
+
+/// Counters of work done, to prove that an effect a body does not list costs nothing.
+struct ControllerStatistics {
+  std::uint64_t steps = 0;                ///< updateAction calls
+  std::uint64_t hydrostaticsQueries = 0;  ///< buoyancy queries (texture or polyhedral)
+  std::uint64_t dragPasses = 0;           ///< passes over a body's drag patches
+  std::uint64_t dragPatchesVisited = 0;   ///< patches whose drag was evaluated
+  std::uint64_t addedMassUpdates = 0;     ///< bodies whose added mass was evaluated
+  std::uint64_t skippedOutOfLiquid = 0;   ///< bodies wholly out of the liquid (bounding-sphere test)
+  std::uint64_t skippedAsleep = 0;        ///< sleeping bodies left asleep
+  std::uint64_t failedQueries = 0;        ///< queries that returned an error (force skipped)
+};
+
+/// What the controller knows about one registered body after the last step.
+struct FloatingBodyReport {
+  MassProperties massProperties;     ///< mass (kg), volume, centre of mass and inertia in the mesh frame
+  btTransform meshToBody = btTransform::getIdentity();///< mesh frame expressed in Bullet's body (centre-of-mass, principal) frame
+  HydrostaticsResult hydrostatics;   ///< last buoyancy answer (zero when out of the liquid or not listed)
+  btVector3 dragForce{0, 0, 0};      ///< last drag force (N, world)
+  btVector3 dragTorque{0, 0, 0};     ///< last drag torque about the centre of mass (N m, world)
+  double addedMass = 0.0;            ///< last added mass (kg)
+  std::size_t effectMemoryBytes = 0; ///< heap held for the listed effects (0 for buoyancy-only bodies' drag)
+  bool atRest = false;               ///< at rest afloat at the last step
+};
+
+class FloatingBody;
+
+/// Makes registered btRigidBody objects float. Not copyable; the world and the bodies must
+/// outlive it (or be removed first).
+class BuoyancyController : public btActionInterface {
+ public:
+  /// Controller for bodies of `world` in `liquid`. Does not add itself: call
+  /// world.addAction(&controller). Invalid settings are reported by addBody().
+  BuoyancyController(btDynamicsWorld& world, LiquidSettings liquid, ControllerSettings settings = {});
+  ~BuoyancyController() override;
+  BuoyancyController(const BuoyancyController&) = delete;
+  BuoyancyController& operator=(const BuoyancyController&) = delete;
+
+  /// Registers `body` (dynamic, in the world or not yet). Its current world transform is taken
+  /// as the placement of the mesh's own frame. The controller sets the body's mass and inertia
+  /// from the mesh and settings, moves its origin to the centre of mass (principal axes), and
+  /// wraps its collision shape in a compound whose child offset keeps the shape in place; a
+  /// btDefaultMotionState gets the matching centre-of-mass offset. The body's velocity is kept.
+  /// Errors: null or static body, body already registered, invalid settings, an unreadable or
+  /// open mesh, a bake that fails.
+  Status addBody(btRigidBody* body, const FloatingBodySettings& settings);
+
+  /// Unregisters `body` and gives it back its own collision shape (in the mesh frame, origin at
+  /// the mesh origin); mass and inertia stay as the controller set them. False when unknown.
+  bool removeBody(btRigidBody* body);
+
+  /// Changes mass, centre of mass and inertia (mesh frame) of a registered body, keeping the shape
+  /// where it is in the world and keeping linear and angular momentum (DESIGN.md "Bullet's
+  /// frame"). Errors: unknown body, non-positive or non-finite mass, non-finite centre, an
+  /// inertia that is not symmetric positive definite.
+  Status setMassProperties(btRigidBody* body, const MassProperties& massProperties);
+
+  /// Where the mesh's own frame is in the world (for rendering), or empty for an unknown body.
+  std::optional<btTransform> meshTransform(const btRigidBody* body) const;
+  /// Report of a registered body, or null.
+  const FloatingBodyReport* report(const btRigidBody* body) const;
+  /// Number of registered bodies.
+  std::size_t bodyCount() const { return bodies_.size(); }
+
+  /// The liquid.
+  const LiquidSettings& liquid() const { return liquid_; }
+  /// Replaces the liquid (e.g. a new surface); bodies keep their bakes.
+  Status setLiquid(LiquidSettings liquid);
+  /// Simulated time (s) passed to the liquid surface; advanced by each updateAction.
+  double time() const { return time_; }
+  /// Work counters since construction or resetStatistics().
+  const ControllerStatistics& statistics() const { return statistics_; }
+  /// Zeroes the work counters.
+  void resetStatistics() { statistics_ = {}; }
+
+  /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds.
+  void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
+  /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
+  /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
+  void debugDraw(btIDebugDraw* debugDrawer) override;
+
+ private:
+  FloatingBody* find(const btRigidBody* body) const;
+  void stepBody(FloatingBody& floating, double dt);
+
+  btDynamicsWorld& world_;
+  LiquidSettings liquid_;
+  ControllerSettings settings_;
+  std::vector<std::unique_ptr<FloatingBody>> bodies_;
+  ControllerStatistics statistics_;
+  double time_ = 0.0;
+};
+
+}  // namespace hydrotex::bullet

@@ -1,0 +1,97 @@
+#pragma once
+/// @file FloatingBodySettings.hpp
+/// How one rigid body floats: its mesh, resolution, mass model and the effects it pays for
+/// (DESIGN.md "Effects on demand"). A settings struct with defaults and validate(), as Jolt's
+/// XSettings.
+
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/Mesh.hpp"
+#include "hydrotex/TexelDrag.hpp"
+
+namespace hydrotex::bullet {
+
+/// One effect of the liquid on a body. Each is off unless listed.
+enum class Effect : std::uint32_t {
+  Buoyancy = 1u << 0,      ///< hydrostatic pressure force and torque (implicit stiffness)
+  Drag = 1u << 1,          ///< per-patch pressure and skin-friction drag, rotational damping
+  AddedMass = 1u << 2,     ///< the liquid the body must accelerate with it
+  VariableMass = 1u << 3,  ///< reserved (a later issue); validate() refuses it for now
+  Flooding = 1u << 4,      ///< reserved (a later issue); validate() refuses it for now
+  Deformation = 1u << 5,   ///< reserved (a later issue); validate() refuses it for now
+  Wetting = 1u << 6,       ///< reserved (a later issue); validate() refuses it for now
+};
+
+/// A set of effects (bit flags).
+class EffectSet {
+ public:
+  /// Empty set.
+  constexpr EffectSet() = default;
+  /// Set holding the listed effects.
+  constexpr EffectSet(std::initializer_list<Effect> effects) {
+    for (Effect e : effects) bits_ |= static_cast<std::uint32_t>(e);
+  }
+  /// True when `effect` is listed.
+  constexpr bool has(Effect effect) const { return (bits_ & static_cast<std::uint32_t>(effect)) != 0; }
+  /// Lists `effect`.
+  constexpr void add(Effect effect) { bits_ |= static_cast<std::uint32_t>(effect); }
+  /// True when nothing is listed.
+  constexpr bool empty() const { return bits_ == 0; }
+  /// The raw bits (for comparisons and logs).
+  constexpr std::uint32_t bits() const { return bits_; }
+
+ private:
+  std::uint32_t bits_ = 0;
+};
+
+/// The effect named `name` ("buoyancy", "drag", "added_mass", "variable_mass", "flooding",
+/// "deformation", "wetting"); empty for an unknown name.
+std::optional<Effect> effectFromName(std::string_view name);
+/// The scene-file name of `effect`.
+std::string_view effectName(Effect effect);
+
+/// Which hydrostatics path a body uses.
+enum class HydrostaticsMethod {
+  Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
+  Polyhedral,  ///< exact clipping of the triangle mesh (flat surfaces and uniform media only)
+};
+
+/// Everything the controller needs to float one rigid body.
+struct FloatingBodySettings {
+  /// The body's closed mesh in its own frame (m). Either this or `meshPath`.
+  std::shared_ptr<const Mesh> mesh;
+  /// A mesh file any assimp format (used when `mesh` is empty).
+  std::string meshPath;
+  /// Texels per side of the bake (16..4096); 256 is a good default for game objects.
+  int resolution = 256;
+  /// Hydrostatics path.
+  HydrostaticsMethod method = HydrostaticsMethod::Texture;
+  /// Uniform solid density (kg/m^3). Exactly one of density and mass may be given; with neither,
+  /// the rigid body's own mass is kept and spread uniformly.
+  std::optional<double> density;
+  /// Total mass (kg) of a uniform solid.
+  std::optional<double> mass;
+  /// The effects this body pays for.
+  EffectSet effects{Effect::Buoyancy, Effect::Drag};
+  /// Drag law coefficients (used with Effect::Drag).
+  DragCoefficients drag;
+  /// Rotational damping (1/s): torque -this * submerged fraction * I omega, with Effect::Drag.
+  /// Catches the spin of round bodies, which the pressure law does not see. Typical 0.1..1.
+  double rotationalDamping = 0.3;
+  /// Added-mass coefficient: m_a = this * rho * V_submerged (0.5 for a sphere), with Effect::AddedMass.
+  double addedMassCoefficient = 0.5;
+  /// Texel normals within this cosine are merged into one drag patch per tile (0..1).
+  double dragPatchNormalCosine = 0.9;
+
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
+
+}  // namespace hydrotex::bullet

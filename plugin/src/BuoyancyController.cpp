@@ -1,0 +1,525 @@
+#include "hydrotex/bullet/BuoyancyController.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "BulletEigen.hpp"
+#include "FloatingBody.hpp"
+#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/PolyhedralHydrostatics.hpp"
+
+namespace hydrotex::bullet {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+/// Principal frame of an inertia tensor: rotation whose columns are the principal axes (right
+/// handed) and the principal moments.
+struct PrincipalFrame {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d moments = Eigen::Vector3d::Zero();
+};
+
+Expected<PrincipalFrame> principalFrame(const Eigen::Matrix3d& inertia) {
+  if (!inertia.allFinite()) return Error{"inertia: not finite"};
+  if ((inertia - inertia.transpose()).norm() > 1e-9 * std::max(1.0, inertia.norm())) {
+    return Error{"inertia: not symmetric"};
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(inertia);
+  if (solver.info() != Eigen::Success || !(solver.eigenvalues().minCoeff() > 0.0)) {
+    return Error{"inertia: not positive definite"};
+  }
+  PrincipalFrame frame;
+  frame.axes = solver.eigenvectors();
+  if (frame.axes.determinant() < 0.0) frame.axes.col(2) = -frame.axes.col(2);
+  frame.moments = solver.eigenvalues();
+  return frame;
+}
+
+/// Removes a body's cached contact pairs before its shape type changes: Bullet picks a pair's
+/// collision algorithm by shape type once, so a stale pair would run the wrong algorithm.
+void forgetPairs(btDynamicsWorld& world, btRigidBody* body) {
+  if (body->getBroadphaseHandle() == nullptr) return;
+  world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body->getBroadphaseHandle(),
+                                                                         world.getDispatcher());
+}
+
+/// Places body origin at the centre of mass with principal axes, mass and inertia set, the
+/// compound child offset moved so that the shape stays put, and the motion state told.
+void applyBodyFrame(btDynamicsWorld& world, FloatingBody& floating, const btTransform& meshWorld) {
+  btRigidBody* body = floating.body;
+  const btTransform meshToBody = floating.bodyToMesh.inverse();
+  floating.compound->updateChildTransform(0, meshToBody, true);
+  const btTransform bodyWorld = meshWorld * floating.bodyToMesh;
+  body->setCenterOfMassTransform(bodyWorld);
+  if (auto* motionState = dynamic_cast<btDefaultMotionState*>(body->getMotionState())) {
+    motionState->m_centerOfMassOffset = meshToBody;
+    motionState->setWorldTransform(bodyWorld);
+  }
+  floating.report.meshToBody = meshToBody;
+  if (body->getBroadphaseHandle() != nullptr) world.updateSingleAabb(body);
+}
+
+/// Symmetric positive semi-definite part of a stiffness, measured in the metric of the
+/// generalized masses (so that heave in N/m and roll in N m/rad are compared fairly).
+/// Negative directions (a capsizing body) stay explicit: they are physical growth, not stiffness.
+Eigen::Matrix3d positivePart(const Eigen::Matrix3d& stiffness, const Eigen::Vector3d& generalizedMass,
+                             double& largestRate) {
+  const Eigen::Vector3d scale = generalizedMass.cwiseSqrt().cwiseInverse();
+  const Eigen::Matrix3d symmetric = 0.5 * (stiffness + stiffness.transpose());
+  const Eigen::Matrix3d normalized = scale.asDiagonal() * symmetric * scale.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(normalized);
+  const Eigen::Vector3d clamped = solver.eigenvalues().cwiseMax(0.0);
+  largestRate = clamped.maxCoeff();  // omega^2 (1/s^2) of the stiffest mode
+  const Eigen::Matrix3d positive = solver.eigenvectors() * clamped.asDiagonal() * solver.eigenvectors().transpose();
+  const Eigen::Vector3d unscale = generalizedMass.cwiseSqrt();
+  return unscale.asDiagonal() * positive * unscale.asDiagonal();
+}
+
+}  // namespace
+
+Status LiquidSettings::validate() const {
+  if (!surface) return Error{"liquid.surface: no surface given"};
+  if (Status s = surface->validate(); !s) return Error{"liquid.surface: " + s.error().message};
+  if (!(std::isfinite(viscosity) && viscosity >= 0.0)) return Error{"liquid.viscosity: must be >= 0 and finite"};
+  if (!(std::isfinite(current.x()) && std::isfinite(current.y()) && std::isfinite(current.z()))) {
+    return Error{"liquid.current: not finite"};
+  }
+  return Ok{};
+}
+
+Status ControllerSettings::validate() const {
+  auto bad = [](double v) { return !(std::isfinite(v) && v >= 0.0); };
+  if (bad(restForceFraction)) return Error{"restForceFraction: must be >= 0 and finite"};
+  if (bad(restLinearSpeed)) return Error{"restLinearSpeed: must be >= 0 and finite"};
+  if (bad(restAngularSpeed)) return Error{"restAngularSpeed: must be >= 0 and finite"};
+  if (bad(debugMetersPerNewton)) return Error{"debugMetersPerNewton: must be >= 0 and finite"};
+  return Ok{};
+}
+
+BuoyancyController::BuoyancyController(btDynamicsWorld& world, LiquidSettings liquid, ControllerSettings settings)
+    : world_(world), liquid_(std::move(liquid)), settings_(settings) {}
+
+BuoyancyController::~BuoyancyController() {
+  while (!bodies_.empty()) removeBody(bodies_.back()->body);
+}
+
+Status BuoyancyController::setLiquid(LiquidSettings liquid) {
+  if (Status s = liquid.validate(); !s) return s;
+  liquid_ = std::move(liquid);
+  return Ok{};
+}
+
+FloatingBody* BuoyancyController::find(const btRigidBody* body) const {
+  for (const auto& floating : bodies_) {
+    if (floating->body == body) return floating.get();
+  }
+  return nullptr;
+}
+
+Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings& settings) {
+  if (Status s = liquid_.validate(); !s) return s;
+  if (Status s = settings_.validate(); !s) return s;
+  if (body == nullptr) return Error{"body: null"};
+  if (body->isStaticOrKinematicObject() && body->getInvMass() == btScalar(0) && !settings.density && !settings.mass) {
+    return Error{"body: static or kinematic with no density or mass given"};
+  }
+  if (find(body) != nullptr) return Error{"body: already registered"};
+  if (body->getCollisionShape() == nullptr) return Error{"body: has no collision shape"};
+  if (Status s = settings.validate(); !s) return s;
+
+  auto floating = std::make_unique<FloatingBody>();
+  floating->body = body;
+  floating->settings = settings;
+  if (settings.mesh) {
+    floating->mesh = settings.mesh;
+  } else {
+    Expected<Mesh> loaded = loadMesh(settings.meshPath);
+    if (!loaded) return loaded.error();
+    floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
+  }
+  const Mesh& mesh = *floating->mesh;
+  if (Status closed = checkClosedMesh(mesh); !closed) {
+    return Error{(mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName) + ": " + closed.error().message};
+  }
+
+  // Uniform solids: the exact polyhedral mass properties (once, at registration).
+  Expected<MassProperties> unitDensity = polyhedralMassProperties(mesh, 1.0);
+  if (!unitDensity) return unitDensity.error();
+  if (!(unitDensity->volume > 0.0)) return Error{"mesh: encloses no volume"};
+  double density = 0.0;
+  if (settings.density) {
+    density = *settings.density;
+  } else if (settings.mass) {
+    density = *settings.mass / unitDensity->volume;
+  } else if (body->getInvMass() > btScalar(0)) {
+    density = (1.0 / double(body->getInvMass())) / unitDensity->volume;
+  } else {
+    return Error{"body: has no mass and the settings give neither density nor mass"};
+  }
+  MassProperties props = *unitDensity;
+  props.mass *= density;
+  props.inertia *= density;
+
+  const bool needsBake = settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag);
+  if (needsBake) {
+    BodyGeometrySettings geometrySettings;
+    geometrySettings.bake.width = settings.resolution;
+    geometrySettings.bake.height = settings.resolution;
+    Expected<BodyGeometry> geometry = prepareBodyGeometry(mesh, geometrySettings);
+    if (!geometry) return geometry.error();
+    if (settings.method == HydrostaticsMethod::Texture &&
+        (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass))) {
+      Expected<TextureHydrostatics> texture = TextureHydrostatics::build(geometry->bake, geometry->textures);
+      if (!texture) return texture.error();
+      floating->texture.emplace(std::move(texture).value());
+    }
+    if (settings.effects.has(Effect::Drag)) {
+      floating->dragPatches =
+          mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine);
+      for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
+    }
+  }
+
+  Eigen::Vector3d lower = mesh.positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : mesh.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  floating->boundsCenter = 0.5 * (lower + upper);
+  floating->boundsRadius = 0.5 * (upper - lower).norm();
+  floating->referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
+
+  // Bullet's frame: the shape is wrapped so that the body origin can sit at the centre of mass.
+  floating->originalShape = body->getCollisionShape();
+  floating->compound = std::make_unique<btCompoundShape>(false, 1);
+  floating->compound->addChildShape(btTransform::getIdentity(), floating->originalShape);
+  forgetPairs(world_, body);
+  body->setCollisionShape(floating->compound.get());
+
+  FloatingBody& registered = *floating;
+  bodies_.push_back(std::move(floating));
+  if (Status s = setMassProperties(body, props); !s) {
+    removeBody(body);
+    return s;
+  }
+  std::size_t bytes = registered.dragPatches.capacity() * sizeof(DragPatch);
+  if (registered.texture) bytes += registered.texture->texelCount() * sizeof(TextureHydrostatics::Texel);
+  registered.report.effectMemoryBytes = bytes;
+  return Ok{};
+}
+
+bool BuoyancyController::removeBody(btRigidBody* body) {
+  auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const auto& f) { return f->body == body; });
+  if (it == bodies_.end()) return false;
+  FloatingBody& floating = **it;
+  const btTransform meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
+  forgetPairs(world_, body);
+  body->setCollisionShape(floating.originalShape);
+  body->setCenterOfMassTransform(meshWorld);
+  if (auto* motionState = dynamic_cast<btDefaultMotionState*>(body->getMotionState())) {
+    motionState->m_centerOfMassOffset = btTransform::getIdentity();
+    motionState->setWorldTransform(meshWorld);
+  }
+  if (body->getBroadphaseHandle() != nullptr) world_.updateSingleAabb(body);
+  bodies_.erase(it);
+  return true;
+}
+
+Status BuoyancyController::setMassProperties(btRigidBody* body, const MassProperties& massProperties) {
+  FloatingBody* floating = find(body);
+  if (floating == nullptr) return Error{"body: not registered"};
+  if (!(std::isfinite(massProperties.mass) && massProperties.mass > 0.0)) {
+    return Error{"mass: must be positive and finite"};
+  }
+  if (!massProperties.centerOfMass.allFinite()) return Error{"centerOfMass: not finite"};
+  Expected<PrincipalFrame> principal = principalFrame(massProperties.inertia);
+  if (!principal) return principal.error();
+
+  const bool firstTime = floating->report.massProperties.mass <= 0.0;
+  const btTransform bodyWorldBefore = body->getCenterOfMassTransform();
+  const btTransform meshWorld = firstTime ? bodyWorldBefore : bodyWorldBefore * floating->bodyToMesh.inverse();
+
+  // Momentum before (DESIGN.md "Bullet's frame"): linear P = m v; angular about the new centre
+  // L = I w + m (c_old - c_new) x v.
+  const double oldMass = firstTime ? 0.0 : floating->report.massProperties.mass;
+  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
+  const Eigen::Vector3d w = toEigen(body->getAngularVelocity());
+  const Eigen::Vector3d oldCenter = toEigen(bodyWorldBefore.getOrigin());
+  const Eigen::Vector3d newCenter = toEigen(meshWorld * toBullet(massProperties.centerOfMass));
+  Eigen::Matrix3d oldInertiaWorld = Eigen::Matrix3d::Zero();
+  if (!firstTime && body->getInvMass() > btScalar(0)) {
+    oldInertiaWorld = toEigen(body->getInvInertiaTensorWorld()).inverse();
+  }
+
+  floating->bodyToMesh = btTransform(toBulletBasis(principal->axes), toBullet(massProperties.centerOfMass));
+  floating->report.massProperties = massProperties;
+  body->setMassProps(btScalar(massProperties.mass), toBullet(principal->moments));
+  applyBodyFrame(world_, *floating, meshWorld);
+  body->updateInertiaTensor();
+
+  if (!firstTime) {
+    const Eigen::Vector3d momentum = oldMass * v;
+    const Eigen::Vector3d angularMomentum = oldInertiaWorld * w + oldMass * (oldCenter - newCenter).cross(v);
+    const Eigen::Matrix3d newInertiaWorld = toEigen(body->getInvInertiaTensorWorld()).inverse();
+    body->setLinearVelocity(toBullet(momentum / massProperties.mass));
+    body->setAngularVelocity(toBullet(newInertiaWorld.ldlt().solve(angularMomentum)));
+  }
+  return Ok{};
+}
+
+std::optional<btTransform> BuoyancyController::meshTransform(const btRigidBody* body) const {
+  const FloatingBody* floating = find(body);
+  if (floating == nullptr) return std::nullopt;
+  return body->getCenterOfMassTransform() * floating->bodyToMesh.inverse();
+}
+
+const FloatingBodyReport* BuoyancyController::report(const btRigidBody* body) const {
+  const FloatingBody* floating = find(body);
+  return floating != nullptr ? &floating->report : nullptr;
+}
+
+void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep) {
+  const double dt = double(deltaTimeStep);
+  if (!(dt > 0.0) || !liquid_.surface) return;
+  time_ += dt;
+  ++statistics_.steps;
+  for (const auto& floating : bodies_) stepBody(*floating, dt);
+}
+
+void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
+  btRigidBody* body = floating.body;
+  FloatingBodyReport& report = floating.report;
+  const LiquidSurface& surface = *liquid_.surface;
+  const FloatingBodySettings& settings = floating.settings;
+  const EffectSet effects = settings.effects;
+  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
+
+  // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
+  if (!body->isActive() && still) {
+    ++statistics_.skippedAsleep;
+    return;
+  }
+  if (body->getInvMass() <= btScalar(0)) return;
+
+  const btTransform meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
+  const Pose meshPose = toPose(meshWorld);
+  const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
+  const Eigen::Vector3d gravity = toEigen(body->getGravity());
+  const double mass = report.massProperties.mass;
+  report.hydrostatics = HydrostaticsResult{};
+  report.dragForce = report.dragTorque = btVector3(0, 0, 0);
+  report.addedMass = 0.0;
+  report.atRest = false;
+
+  // Bodies wholly out of the liquid cost a bounding-sphere test. Away from a flat plane the
+  // surface may rise within the sphere's footprint; slopes up to 1 are covered by the margin.
+  if (surface.hasFreeSurface()) {
+    const Eigen::Vector3d sphere = meshPose.apply(floating.boundsCenter);
+    const double margin = surface.flatHeight() ? 0.0 : floating.boundsRadius;
+    const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
+    if (sphere.y() - floating.boundsRadius > level + margin) {
+      ++statistics_.skippedOutOfLiquid;
+      return;
+    }
+  }
+
+  // Buoyancy (and the submerged volume that added mass needs).
+  const double pressureGravity = -gravity.y();
+  Eigen::Vector3d buoyancyForce = Eigen::Vector3d::Zero(), buoyancyTorque = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  if ((effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
+    HydrostaticsQuery query;
+    query.pose = meshPose;
+    query.gravity = pressureGravity;
+    query.centerOfMass = report.massProperties.centerOfMass;
+    query.time = time_;
+    query.mass = mass;
+    ++statistics_.hydrostaticsQueries;
+    Expected<HydrostaticsResult> result = floating.texture
+                                              ? floating.texture->query(surface, query)
+                                              : polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query);
+    if (result) {
+      report.hydrostatics = *result;
+      if (effects.has(Effect::Buoyancy)) {
+        buoyancyForce = result->buoyancyForce;
+        buoyancyTorque = result->torqueAboutCenterOfMass;
+        stiffness = result->stiffness;
+      }
+    } else {
+      ++statistics_.failedQueries;
+    }
+  }
+
+  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
+  const Eigen::Vector3d w = toEigen(body->getAngularVelocity());
+  const Eigen::Matrix3d inertiaWorld = toEigen(body->getInvInertiaTensorWorld()).inverse();
+  const Eigen::Matrix3d rotation = meshPose.rotation;
+
+  // Drag: a pass over the drag patches, only for bodies that list it.
+  Eigen::Vector3d dragForce = Eigen::Vector3d::Zero(), dragTorque = Eigen::Vector3d::Zero();
+  Eigen::Vector3d liquidVelocityAtCenter = toEigen(liquid_.current);
+  if (effects.has(Effect::Drag)) {
+    ++statistics_.dragPasses;
+    liquidVelocityAtCenter += surface.velocity(center, time_);
+    double wettedArea = 0.0;
+    const double viscosity = liquid_.viscosity;
+    for (const DragPatch& patch : floating.dragPatches) {
+      const Eigen::Vector3d p = rotation * patch.position.cast<double>() + meshPose.translation;
+      double wetFraction = 1.0;
+      if (surface.hasFreeSurface()) {
+        const double depth = surface.surfaceHeight(p.x(), p.z(), time_) - p.y();
+        const double radius = std::max(double(patch.radius), 1e-9);
+        // The patch is partly under water when the surface crosses its bounding sphere: a linear
+        // ramp over the sphere's height keeps the force continuous as the waterline moves.
+        wetFraction = std::clamp(0.5 + 0.5 * depth / radius, 0.0, 1.0);
+        if (wetFraction <= 0.0) continue;
+      }
+      ++statistics_.dragPatchesVisited;
+      const Eigen::Vector3d r = p - center;
+      const Eigen::Vector3d liquidVelocity = surface.velocity(p, time_) + toEigen(liquid_.current);
+      const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
+      const Eigen::Vector3d force =
+          wetFraction * texelDragForce(rotation * patch.areaVector.cast<double>(), double(patch.area), relative,
+                                       surface.densityAt(p), viscosity, floating.referenceLength, settings.drag);
+      dragForce += force;
+      dragTorque += r.cross(force);
+      wettedArea += wetFraction * double(patch.area);
+    }
+    if (floating.totalDragPatchArea > 0.0 && settings.rotationalDamping > 0.0) {
+      const double wetted = wettedArea / floating.totalDragPatchArea;
+      dragTorque -= settings.rotationalDamping * wetted * (inertiaWorld * w);
+    }
+    // Drag must slow a body, never reverse it: with the explicit impulse J and relative
+    // generalized velocity u, lambda = -(u.J)/(u.M.u) is the fraction removed; scaling J by
+    // 1/(1 + lambda) is the backward-Euler answer for a linear damper (unconditionally stable).
+    const Eigen::Vector3d relativeLinear = v - liquidVelocityAtCenter;
+    const double removed = -dt * (relativeLinear.dot(dragForce) + w.dot(dragTorque));
+    const double kinetic = mass * relativeLinear.squaredNorm() + w.dot(inertiaWorld * w);
+    if (removed > 0.0 && kinetic > 0.0) {
+      const double scale = 1.0 / (1.0 + removed / kinetic);
+      dragForce *= scale;
+      dragTorque *= scale;
+    }
+    report.dragForce = toBullet(dragForce);
+    report.dragTorque = toBullet(dragTorque);
+  }
+
+  // Added mass: the liquid accelerated with the body, from the submerged volume.
+  double addedMass = 0.0;
+  if (effects.has(Effect::AddedMass)) {
+    ++statistics_.addedMassUpdates;
+    addedMass = settings.addedMassCoefficient * report.hydrostatics.fluidDensity * report.hydrostatics.submergedVolume;
+    report.addedMass = addedMass;
+  }
+
+  // Velocity update with the hydrostatic stiffness taken implicitly. Generalized velocity
+  // u = (v, w) at the centre of mass; the next step integrates positions with u' = (this
+  // action's velocity + dt g). Linearizing F(x + dt u') = F(x) - K dt u' gives
+  //   (M + theta dt^2 K) u' = M u + dt (m g + F_b + F_d) ,
+  // K acting on (heave v_y, roll w_x, pitch w_z) (Hydrostatics.hpp; the reference point lies
+  // vertically above the centre of mass, so these rates are the body's own). theta = min(1, a),
+  // a = (omega dt)^2 of the stiffest mode: almost symplectic (energy kept) for ordinary bodies,
+  // fully implicit (dissipative, unconditionally stable) for light ones; every theta > 0 has
+  // determinant 1/(1 + theta a) < 1 per step, so the hydrostatic oscillation never gains energy.
+  const double effectiveMass = mass + addedMass;
+  Matrix6d system = Matrix6d::Zero();
+  system.topLeftCorner<3, 3>() = effectiveMass * Eigen::Matrix3d::Identity();
+  system.bottomRightCorner<3, 3>() = inertiaWorld;
+  Vector6d rhs;
+  rhs.head<3>() = effectiveMass * v + dt * (mass * gravity + buoyancyForce + dragForce);
+  rhs.tail<3>() = inertiaWorld * w + dt * (buoyancyTorque + dragTorque);
+  const bool stiff = !stiffness.isZero(0.0) && stiffness.allFinite();
+  if (stiff) {
+    double rate = 0.0;
+    const Eigen::Vector3d generalizedMass(effectiveMass, std::max(inertiaWorld(0, 0), 1e-12),
+                                          std::max(inertiaWorld(2, 2), 1e-12));
+    const Eigen::Matrix3d positive = positivePart(stiffness, generalizedMass, rate);
+    const double theta = std::min(1.0, rate * dt * dt);
+    static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * positive(i, j);
+  }
+  const Vector6d next = stiff ? Vector6d(system.ldlt().solve(rhs))
+                              : Vector6d((Vector6d() << rhs.head<3>() / effectiveMass,
+                                          inertiaWorld.ldlt().solve(Eigen::Vector3d(rhs.tail<3>())))
+                                             .finished());
+  if (!next.allFinite()) {
+    ++statistics_.failedQueries;
+    return;
+  }
+
+  // Rest afloat: balanced and slow. Until then the body is kept awake, so that Bullet's sleeping
+  // thresholds (0.8 m/s for 2 s) cannot freeze a slow oscillation.
+  const double weight = mass * gravity.norm();
+  const Eigen::Vector3d netForce = mass * gravity + buoyancyForce + dragForce;
+  const Eigen::Vector3d netTorque = buoyancyTorque + dragTorque;
+  report.atRest = netForce.norm() <= settings_.restForceFraction * weight &&
+                  netTorque.norm() <= settings_.restForceFraction * weight * floating.referenceLength &&
+                  (v - liquidVelocityAtCenter).norm() <= settings_.restLinearSpeed &&
+                  w.norm() <= settings_.restAngularSpeed;
+  if (!body->isActive()) {
+    if (report.atRest) {
+      ++statistics_.skippedAsleep;
+      return;
+    }
+    body->activate(true);
+  } else if (!report.atRest) {
+    body->setDeactivationTime(0);
+  }
+
+  body->setLinearVelocity(toBullet(Eigen::Vector3d(next.head<3>()) - dt * gravity));
+  body->setAngularVelocity(toBullet(Eigen::Vector3d(next.tail<3>())));
+}
+
+void BuoyancyController::debugDraw(btIDebugDraw* debugDrawer) {
+  if (debugDrawer == nullptr || !liquid_.surface) return;
+  const LiquidSurface& surface = *liquid_.surface;
+  const btVector3 red(1, 0, 0), green(0, 1, 0), blue(0, 0, 1);
+  for (const auto& floating : bodies_) {
+    const btRigidBody* body = floating->body;
+    const double mass = floating->report.massProperties.mass;
+    const btVector3 gravity = body->getGravity();
+    const double weight = mass * double(gravity.length());
+    const double scale = settings_.debugMetersPerNewton > 0.0
+                             ? settings_.debugMetersPerNewton
+                             : (weight > 0.0 ? floating->referenceLength / weight : 0.0);
+    const btVector3 center = body->getCenterOfMassPosition();
+    debugDrawer->drawLine(center, center + gravity * btScalar(mass * scale), red);
+    const HydrostaticsResult& h = floating->report.hydrostatics;
+    if (h.submergedVolume > 0.0) {
+      const btVector3 buoyancyCenter = toBullet(h.centerOfBuoyancy);
+      debugDrawer->drawLine(buoyancyCenter, buoyancyCenter + toBullet(h.buoyancyForce * scale), green);
+    }
+    if (!surface.hasFreeSurface()) continue;
+    // Waterline: where each triangle's vertices change side of the surface.
+    const btTransform meshWorld = body->getCenterOfMassTransform() * floating->bodyToMesh.inverse();
+    const Mesh& mesh = *floating->mesh;
+    for (const Eigen::Vector3i& tri : mesh.triangles) {
+      Eigen::Vector3d corner[3];
+      double above[3];
+      for (int k = 0; k < 3; ++k) {
+        corner[k] = toEigen(meshWorld * toBullet(mesh.positions[std::size_t(tri[k])]));
+        above[k] = corner[k].y() - surface.surfaceHeight(corner[k].x(), corner[k].z(), time_);
+      }
+      btVector3 ends[2];
+      int found = 0;
+      for (int k = 0; k < 3 && found < 2; ++k) {
+        const int n = (k + 1) % 3;
+        if ((above[k] < 0.0) != (above[n] < 0.0)) {
+          const double t = above[k] / (above[k] - above[n]);
+          ends[found++] = toBullet(corner[k] + t * (corner[n] - corner[k]));
+        }
+      }
+      if (found == 2) debugDrawer->drawLine(ends[0], ends[1], blue);
+    }
+  }
+}
+
+}  // namespace hydrotex::bullet

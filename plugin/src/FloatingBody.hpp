@@ -1,0 +1,35 @@
+#pragma once
+// Per-body state of the controller: what was baked at registration (read-only afterwards) and the
+// pieces of Bullet it changed (compound shape, frames). Private to the plugin.
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "hydrotex/Mesh.hpp"
+#include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/bullet/BuoyancyController.hpp"
+
+namespace hydrotex::bullet {
+
+/// One registered body.
+struct FloatingBody {
+  btRigidBody* body = nullptr;                  ///< not owned
+  FloatingBodySettings settings;                ///< as registered (validated)
+  std::shared_ptr<const Mesh> mesh;             ///< closed mesh, mesh frame (m)
+  std::optional<TextureHydrostatics> texture;   ///< only for HydrostaticsMethod::Texture
+  std::vector<DragPatch> dragPatches;           ///< only when Effect::Drag is listed
+  double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
+  btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
+  std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset
+  btTransform bodyToMesh = btTransform::getIdentity();                     ///< body (COM, principal) frame in the mesh frame
+  Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();  ///< m, mesh frame
+  double boundsRadius = 0.0;                    ///< m, sphere around boundsCenter holding the mesh
+  double referenceLength = 1.0;                 ///< m, largest extent (Reynolds number, debug arrows)
+  FloatingBodyReport report;                    ///< last step
+};
+
+}  // namespace hydrotex::bullet
