@@ -146,8 +146,9 @@ TEST_CASE("Exact path: sphere caps, cylinder segments, torus and Wigley hull wit
       CHECK(res.submergedVolume == Approx(volume).margin(meshing));
       CHECK(res.centerOfBuoyancy.y() == Approx(-centroidBelowCentre).margin(5e-3));
       CHECK(std::abs(res.centerOfBuoyancy.x() - 0.2) < 5e-3);
-      // Water-plane area pi (r^2 - (r - d)^2): the polygon cut is inscribed, relative error ~1e-3.
-      CHECK(res.waterplaneArea == Approx(kPi * (r * r - (r - depth) * (r - depth))).epsilon(5e-3).margin(1e-3));
+      // Water-plane area pi (r^2 - (r - d)^2): the cut of the inscribed mesh has its radius^2
+      // short by about 2 r sag (sag = l^2 / 8r ~ 1.5e-4 for edges l ~ 0.035): ~1e-3 m^2.
+      CHECK(res.waterplaneArea == Approx(kPi * (r * r - (r - depth) * (r - depth))).margin(2e-3));
     }
   }
   SECTION("horizontal cylinder: circular segment") {
