@@ -234,30 +234,80 @@ Packing packCharts(const std::vector<Chart>& charts) {
 
   std::vector<stbrp_rect> rects(count);
   std::vector<stbrp_node> nodes(static_cast<std::size_t>(side));
-  Packing packing;
-  packing.origin.resize(count);
-  for (int attempt = 0; attempt < 200; ++attempt) {
+  auto tryPack = [&](double scale) {
     for (std::size_t c = 0; c < count; ++c) {
-      const Eigen::Vector2d size = (charts[c].hi - charts[c].lo) * cellsPerMetre;
+      const Eigen::Vector2d size = (charts[c].hi - charts[c].lo) * scale;
       rects[c].id = static_cast<int>(c);
-      rects[c].w = static_cast<stbrp_coord>(std::ceil(size.x())) + kGutter;
-      rects[c].h = static_cast<stbrp_coord>(std::ceil(size.y())) + kGutter;
-      rects[c].w = std::max(rects[c].w, 1 + kGutter);
-      rects[c].h = std::max(rects[c].h, 1 + kGutter);
+      rects[c].w = std::max(static_cast<stbrp_coord>(std::ceil(size.x())), 1) + kGutter;
+      rects[c].h = std::max(static_cast<stbrp_coord>(std::ceil(size.y())), 1) + kGutter;
     }
     stbrp_context context;
     stbrp_init_target(&context, side, side, nodes.data(), side);
-    if (stbrp_pack_rects(&context, rects.data(), static_cast<int>(count)) == 1) {
-      for (const stbrp_rect& rect : rects)
-        packing.origin[static_cast<std::size_t>(rect.id)] = Eigen::Vector2d(rect.x, rect.y) / side;
-      packing.uvPerMetre = cellsPerMetre / side;
-      return packing;
+    return stbrp_pack_rects(&context, rects.data(), static_cast<int>(count)) == 1;
+  };
+  // Largest scale that packs: bracket it (grow or shrink by 10%), then bisect a few times.
+  // Every attempt is one O(n log n) pack; many-chart atlases get fewer refinements.
+  const int refinements = count < 20'000 ? 6 : 2;
+  double good = 0.0, bad = 0.0;
+  if (tryPack(cellsPerMetre)) {
+    good = cellsPerMetre;
+    for (int i = 0; i < refinements && bad == 0.0; ++i) {
+      if (tryPack(good * 1.1)) good *= 1.1;
+      else bad = good * 1.1;
     }
-    cellsPerMetre *= 0.9;
+  } else {
+    bad = cellsPerMetre;
+    for (int i = 0; i < 200 && good == 0.0; ++i) {
+      if (tryPack(bad * 0.9)) good = bad * 0.9;
+      else bad *= 0.9;
+    }
   }
-  // Not reached in practice: at the last scale every chart is a 2 x 2 cell rectangle.
-  packing.uvPerMetre = 0.0;
+  for (int i = 0; i < refinements && bad > 0.0 && good > 0.0; ++i) {
+    const double middle = 0.5 * (good + bad);
+    if (tryPack(middle)) good = middle;
+    else bad = middle;
+  }
+  Packing packing;
+  packing.origin.assign(count, Eigen::Vector2d::Zero());
+  // At the last shrink every chart is a 2 x 2 cell rectangle, which always fits: good > 0.
+  if (good == 0.0 || !tryPack(good)) return packing;
+  for (const stbrp_rect& rect : rects)
+    packing.origin[static_cast<std::size_t>(rect.id)] = Eigen::Vector2d(rect.x, rect.y) / side;
+  packing.uvPerMetre = good / side;
   return packing;
+}
+
+/// Turns a chart in its plane to the angle (of 32 tried over 90 degrees) with the smallest
+/// bounding rectangle: rectangles are what gets packed, so this is texture space regained.
+void rotateToSmallestBounds(Chart& chart, std::vector<Eigen::Vector2d>& corners) {
+  constexpr int kAngles = 32;
+  double bestArea = std::numeric_limits<double>::infinity();
+  double bestAngle = 0.0;
+  for (int a = 0; a < kAngles; ++a) {
+    const double angle = 0.5 * M_PI * a / kAngles;
+    const Eigen::Vector2d axisU(std::cos(angle), std::sin(angle)), axisV(-std::sin(angle), std::cos(angle));
+    double loU = std::numeric_limits<double>::infinity(), hiU = -loU, loV = loU, hiV = -loU;
+    for (std::uint32_t t : chart.triangles)
+      for (std::uint32_t c = 0; c < 3; ++c) {
+        const Eigen::Vector2d& p = corners[t * 3 + c];
+        const double u = axisU.dot(p), v = axisV.dot(p);
+        loU = std::min(loU, u); hiU = std::max(hiU, u);
+        loV = std::min(loV, v); hiV = std::max(hiV, v);
+      }
+    const double area = (hiU - loU) * (hiV - loV);
+    if (area < bestArea) { bestArea = area; bestAngle = angle; }
+  }
+  if (bestAngle == 0.0) return;
+  const Eigen::Rotation2Dd rotation(-bestAngle);  // coordinates on the rotated axes
+  chart.lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  chart.hi = -chart.lo;
+  for (std::uint32_t t : chart.triangles)
+    for (std::uint32_t c = 0; c < 3; ++c) {
+      Eigen::Vector2d& p = corners[t * 3 + c];
+      p = rotation * p;
+      chart.lo = chart.lo.cwiseMin(p);
+      chart.hi = chart.hi.cwiseMax(p);
+    }
 }
 
 }  // namespace
@@ -282,6 +332,7 @@ UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount) {
   std::vector<double> chartScale(charts.size(), 1.0);
   for (std::size_t c = 0; c < charts.size(); ++c) {
     Chart& chart = charts[c];
+    if (chart.triangles.size() > 1) rotateToSmallestBounds(chart, builder.corners);
     if (chart.areaProjected > 0.0) chartScale[c] = std::sqrt(chart.area3d / chart.areaProjected);
     chart.lo *= chartScale[c];
     chart.hi *= chartScale[c];
