@@ -34,7 +34,49 @@ struct TextureMassModel {
 };
 
 /// Mass properties from texel sums. Uniform solids: volume exact, centre and inertia converge
-/// with resolution. One pass over the covered texels.
+/// with resolution. One pass over the covered texels. A `texelDensity` whose size is not the
+/// texel count gives NaN mass properties (TextureMassIntegrator::evaluate says why instead).
+/// A body of zero mass gets its centre at the reference point and zero inertia.
 MassProperties textureMassProperties(const SurfaceTextures& textures, const TextureMassModel& model);
+
+/// The texture path split in two for bodies evaluated again and again (density maps that change
+/// per step): what depends only on the geometry and the reference point is prepared once, in
+/// compact float arrays (per texel: the cone's apex-to-base vector p - c and volume
+/// (p - c) . A / 3), and each evaluation is one memory-bound pass accumulating in double per
+/// block of texels. Cone i (apex c, base texel at p, volume v) has its centroid at
+/// c + 3/4 (p - c) and second moment about c of 3/5 v ((p - c)(p - c)^T + C_i), C_i the texel's
+/// in-plane covariance from its edges (exact for a flat parallelogram texel).
+class TextureMassIntegrator {
+ public:
+  /// Prepares the per-texel arrays for `textures` with cone apex `referencePoint` (m).
+  TextureMassIntegrator(const SurfaceTextures& textures, const Eigen::Vector3d& referencePoint);
+
+  /// Mass properties for `model` (its referencePoint is ignored: the prepared one is used).
+  /// Error when model.texelDensity is neither empty nor one value per covered texel, or a
+  /// density is negative or not finite.
+  Expected<MassProperties> evaluate(const TextureMassModel& model) const;
+
+  /// Number of covered texels prepared.
+  std::size_t size() const { return volume_.size(); }
+  /// Enclosed volume (m^3): the sum of the cone volumes (exact up to float rounding).
+  double volume() const { return totalVolume_; }
+
+ private:
+  struct Moments;  // mass, first and second moments about the reference point, in double
+  MassProperties finish(const Moments& moments) const;
+
+  Eigen::Vector3d referencePoint_;
+  std::size_t count_ = 0;
+  // Per texel (SoA, padded with zeros to a multiple of the block size).
+  std::vector<float> dx_, dy_, dz_, volume_;
+  // Per block of texels: sum of 3/5 v_i C_i (cone covariance terms) and sum |v_i|.
+  std::vector<double> blockCovariance_;  // 6 per block: xx yy zz xy xz yz
+  std::vector<double> blockAbsVolume_;
+  // Geometry-only sums for the shell (area density is uniform): sum a, a d, a (d d^T + C).
+  double shellArea_ = 0.0;
+  Eigen::Vector3d shellFirst_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d shellSecond_ = Eigen::Matrix3d::Zero();
+  double totalVolume_ = 0.0;
+};
 
 }  // namespace hydrotex
