@@ -75,10 +75,13 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
   // fixed-point iteration x0 <- x - dx(x0) contracts while Q k A < 1 (no looping crests).
   double x0 = x, z0 = z;
   Eigen::Vector3d d = displacement(x0, z0, time);
-  for (int iteration = 0; iteration < 4; ++iteration) {
-    x0 = x - d.x();
-    z0 = z - d.z();
+  for (int iteration = 0; iteration < 16; ++iteration) {
+    const double nextX = x - d.x(), nextZ = z - d.z();
+    const bool converged = std::abs(nextX - x0) + std::abs(nextZ - z0) < 1e-10;
+    x0 = nextX;
+    z0 = nextZ;
     d = displacement(x0, z0, time);
+    if (converged) break;
   }
   return meanLevel_ + d.y();
 }
