@@ -234,8 +234,6 @@ MeshReport validateMesh(const Mesh& mesh) {
   const Eigen::Vector3d reference = 0.5 * (report.boundsMin + report.boundsMax);
 
   std::vector<bool> degenerate(mesh.triangles.size(), false);
-  std::vector<EdgeUse> edges;
-  edges.reserve(mesh.triangles.size() * 3);
   double signedVolume = 0.0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Eigen::Vector3i& tri = mesh.triangles[t];
@@ -258,6 +256,27 @@ MeshReport validateMesh(const Mesh& mesh) {
       degenerate[t] = true;
       ++report.degenerateTriangles;
     }
+  }
+  const EdgeTopology topology = countEdgeTopology(mesh);
+  report.boundaryEdges = topology.boundaryEdges;
+  report.nonManifoldEdges = topology.nonManifoldEdges;
+  report.inconsistentEdges = topology.inconsistentEdges;
+  report.watertight = !mesh.triangles.empty() && topology.closed();
+  if (report.watertight) {
+    report.volume = signedVolume;
+    report.outwardOriented = signedVolume > 0.0;
+  }
+
+  report.hasUv = mesh.hasUvs();
+  if (report.hasUv) validateUvs(mesh, degenerate, report);
+  return report;
+}
+
+EdgeTopology countEdgeTopology(const Mesh& mesh) {
+  std::vector<EdgeUse> edges;
+  edges.reserve(mesh.triangles.size() * 3);
+  for (const Eigen::Vector3i& tri : mesh.triangles) {
+    if (!indicesValid(tri, mesh.positions.size())) continue;
     for (int e = 0; e < 3; ++e) {
       const auto from = static_cast<std::uint32_t>(tri[e]);
       const auto to = static_cast<std::uint32_t>(tri[(e + 1) % 3]);
@@ -267,25 +286,41 @@ MeshReport validateMesh(const Mesh& mesh) {
     }
   }
   std::sort(edges.begin(), edges.end(), [](const EdgeUse& x, const EdgeUse& y) { return x.key < y.key; });
+  EdgeTopology topology;
   for (std::size_t first = 0; first < edges.size();) {
     std::size_t last = first + 1;
     while (last < edges.size() && edges[last].key == edges[first].key) ++last;
     const std::size_t uses = last - first;
-    if (uses == 1) ++report.boundaryEdges;
-    else if (uses > 2) ++report.nonManifoldEdges;
-    else if (edges[first].forward == edges[first + 1].forward) ++report.inconsistentEdges;
+    if (uses == 1) ++topology.boundaryEdges;
+    else if (uses > 2) ++topology.nonManifoldEdges;
+    else if (edges[first].forward == edges[first + 1].forward) ++topology.inconsistentEdges;
     first = last;
   }
-  report.watertight = !mesh.triangles.empty() && report.boundaryEdges == 0 && report.nonManifoldEdges == 0 &&
-                      report.inconsistentEdges == 0;
-  if (report.watertight) {
-    report.volume = signedVolume;
-    report.outwardOriented = signedVolume > 0.0;
-  }
+  return topology;
+}
 
-  report.hasUv = mesh.hasUvs();
-  if (report.hasUv) validateUvs(mesh, degenerate, report);
-  return report;
+namespace {
+/// The one wording of "not closed", shared by checkClosed and requireClosed.
+Status describeClosedness(const EdgeTopology& topology, std::size_t triangleCount, const std::string& what) {
+  const std::string suffix = "; volume and buoyancy need a closed mesh";
+  if (triangleCount == 0) return Error{what + ": mesh has no triangles" + suffix};
+  if (topology.boundaryEdges > 0)
+    return Error{what + ": mesh is open (" + std::to_string(topology.boundaryEdges) + " boundary edges)" + suffix};
+  if (topology.nonManifoldEdges > 0)
+    return Error{what + ": mesh is not a closed manifold (" + std::to_string(topology.nonManifoldEdges) +
+                 " edges shared by more than two triangles)" + suffix};
+  if (topology.inconsistentEdges > 0)
+    return Error{what + ": mesh is inconsistently oriented (" + std::to_string(topology.inconsistentEdges) +
+                 " edges walked the same way by both triangles)" + suffix};
+  return Ok{};
+}
+}  // namespace
+
+Status checkClosed(const Mesh& mesh, const std::string& what) {
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!indicesValid(mesh.triangles[t], mesh.positions.size()))
+      return Error{what + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
+  return describeClosedness(countEdgeTopology(mesh), mesh.triangles.size(), what);
 }
 
 std::string MeshReport::summary() const {
@@ -314,16 +349,8 @@ std::string MeshReport::summary() const {
 }
 
 Status requireClosed(const MeshReport& report, const std::string& what) {
-  const std::string suffix = "; volume and buoyancy need a closed mesh";
-  if (report.triangleCount == 0) return Error{what + ": mesh has no triangles" + suffix};
-  if (report.boundaryEdges > 0)
-    return Error{what + ": mesh is open (" + std::to_string(report.boundaryEdges) + " boundary edges)" + suffix};
-  if (report.nonManifoldEdges > 0)
-    return Error{what + ": mesh is not a closed manifold (" + std::to_string(report.nonManifoldEdges) +
-                 " edges shared by more than two triangles)" + suffix};
-  if (report.inconsistentEdges > 0)
-    return Error{what + ": mesh is inconsistently oriented (" + std::to_string(report.inconsistentEdges) +
-                 " edges walked the same way by both triangles)" + suffix};
+  const EdgeTopology topology{report.boundaryEdges, report.nonManifoldEdges, report.inconsistentEdges};
+  if (Status closed = describeClosedness(topology, report.triangleCount, what); !closed) return closed;
   if (!report.outwardOriented)
     return Error{what + ": mesh is inside out (negative volume); flip the winding of every triangle"};
   return Ok{};

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "hydrotex/MassProperties.hpp"
+#include "hydrotex/MeshValidation.hpp"
 
 namespace hydrotex {
 namespace {
@@ -33,30 +34,6 @@ Subexpressions subexpressions(double w0, double w1, double w2) {
   return s;
 }
 
-// Closed = every directed edge (a, b) appears exactly once and its twin (b, a) exactly once:
-// watertight, manifold and consistently oriented. Returns a message naming the first bad edge.
-std::string findOpenEdge(const Mesh& mesh) {
-  std::vector<std::uint64_t> edges;
-  edges.reserve(mesh.triangles.size() * 3);
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k)
-      edges.push_back((std::uint64_t(std::uint32_t(t[k])) << 32) | std::uint32_t(t[(k + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  auto describe = [](std::uint64_t e) {
-    std::string text = std::to_string(e >> 32);
-    text.append(", ").append(std::to_string(e & 0xFFFFFFFFu));
-    return text;
-  };
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    if (i + 1 < edges.size() && edges[i + 1] == edges[i])
-      return "edge (" + describe(edges[i]) + ") is used twice in the same direction (non-manifold or flipped triangle)";
-    const std::uint64_t twin = (edges[i] << 32) | (edges[i] >> 32);
-    if (!std::binary_search(edges.begin(), edges.end(), twin))
-      return "edge (" + describe(edges[i]) + ") has no opposite edge (the mesh is open)";
-  }
-  return {};
-}
-
 }  // namespace
 
 Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density) {
@@ -71,8 +48,7 @@ Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double densi
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] < 0 || mesh.triangles[t][k] >= vertexCount)
         return Error{name + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
-  if (std::string open = findOpenEdge(mesh); !open.empty())
-    return Error{name + ": not a closed volume: " + open};
+  if (Status closed = checkClosed(mesh, name); !closed) return closed.error();
 
   // Integrate about the bounding-box centre: the products below lose fewer digits there.
   Eigen::Vector3d lo = mesh.positions[0], hi = lo;

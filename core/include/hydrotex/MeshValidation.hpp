@@ -56,6 +56,24 @@ struct MeshReport {
 /// degenerate triangles.
 MeshReport validateMesh(const Mesh& mesh);
 
+/// How the edges of a mesh are shared (each undirected edge counted once).
+struct EdgeTopology {
+  std::size_t boundaryEdges = 0;      ///< used by one triangle
+  std::size_t nonManifoldEdges = 0;   ///< used by more than two triangles
+  std::size_t inconsistentEdges = 0;  ///< used by two triangles walking it the same way
+  /// Watertight, manifold and consistently oriented.
+  bool closed() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && inconsistentEdges == 0; }
+};
+
+/// Counts boundary, non-manifold and inconsistently oriented edges. O(n log n); triangles with an
+/// index out of range are skipped.
+EdgeTopology countEdgeTopology(const Mesh& mesh);
+
+/// The cheap closedness check alone (no UV work), for paths that need a closed volume: every edge
+/// shared by exactly two triangles in opposite directions, indices in range. The message starts
+/// with `what` (usually the file name). Orientation (inside out) is not checked here.
+Status checkClosed(const Mesh& mesh, const std::string& what);
+
 /// Ok when the mesh is closed and outward oriented (watertight, positive volume); otherwise the message used where a closed volume is required, e.g.
 /// "ship.obj: mesh is open (12 boundary edges); volume and buoyancy need a closed mesh".
 /// `what` names the mesh (usually its file name).
