@@ -43,7 +43,7 @@ Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, c
 }
 
 std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const SurfaceTextures& textures,
-                                                  double normalCosine) {
+                                                  double normalCosine, double maxPatchRadius) {
   std::vector<DragPatch> patches;
   const std::size_t count = textures.size();
   if (count != bake.coveredCount() || textures.areaVector.size() != count || textures.area.size() != count ||
@@ -51,7 +51,7 @@ std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const
     return patches;
   }
   struct Accumulator {
-    Eigen::Vector3d normal, areaVector, weightedPosition;
+    Eigen::Vector3d normal, seed, areaVector, weightedPosition;
     double area;
     std::vector<std::uint32_t> members;
   };
@@ -64,14 +64,16 @@ std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const
       const double area = textures.area[t];
       if (!(norm > 0.0) || !(area > 0.0) || !a.allFinite()) continue;
       const Eigen::Vector3d n = a / norm;
-      auto it = std::find_if(open.begin(), open.end(),
-                             [&](const Accumulator& acc) { return acc.normal.dot(n) >= normalCosine; });
+      const Eigen::Vector3d p = textures.position[t].cast<double>();
+      auto it = std::find_if(open.begin(), open.end(), [&](const Accumulator& acc) {
+        return acc.normal.dot(n) >= normalCosine && (p - acc.seed).norm() <= maxPatchRadius;
+      });
       if (it == open.end()) {
-        open.push_back({n, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, {}});
+        open.push_back({n, p, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0, {}});
         it = std::prev(open.end());
       }
       it->areaVector += a;
-      it->weightedPosition += area * textures.position[t].cast<double>();
+      it->weightedPosition += area * p;
       it->area += area;
       it->members.push_back(t);
     }

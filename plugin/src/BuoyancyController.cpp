@@ -167,6 +167,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   props.mass *= density;
   props.inertia *= density;
 
+  Eigen::Vector3d lower = mesh.positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : mesh.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
   const bool needsBake = settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag);
   if (needsBake) {
     BodyGeometrySettings geometrySettings;
@@ -181,20 +187,16 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->texture.emplace(std::move(texture).value());
     }
     if (settings.effects.has(Effect::Drag)) {
-      floating->dragPatches =
-          mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine);
+      floating->dragPatches = mergeTexelsIntoDragPatches(geometry->bake, geometry->textures,
+                                                         settings.dragPatchNormalCosine,
+                                                         settings.dragPatchRadiusFraction * referenceLength);
       for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
     }
   }
 
-  Eigen::Vector3d lower = mesh.positions.front(), upper = lower;
-  for (const Eigen::Vector3d& p : mesh.positions) {
-    lower = lower.cwiseMin(p);
-    upper = upper.cwiseMax(p);
-  }
   floating->boundsCenter = 0.5 * (lower + upper);
   floating->boundsRadius = 0.5 * (upper - lower).norm();
-  floating->referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
+  floating->referenceLength = referenceLength;
 
   // Bullet's frame: the shape is wrapped so that the body origin can sit at the centre of mass.
   floating->originalShape = body->getCollisionShape();
@@ -202,6 +204,15 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   floating->compound->addChildShape(btTransform::getIdentity(), floating->originalShape);
   forgetPairs(world_, body);
   body->setCollisionShape(floating->compound.get());
+
+  // Gravity moves into the controller's implicit update: Bullet adds gravity before integrating
+  // positions and an action can only act after, so a body balanced by buoyancy would otherwise
+  // read a velocity of dt g at rest. The world's gravity is still followed (read each step).
+  floating->originalFlags = body->getFlags();
+  floating->usesWorldGravity = (body->getFlags() & BT_DISABLE_WORLD_GRAVITY) == 0;
+  floating->ownGravity = body->getGravity();
+  body->setFlags(body->getFlags() | BT_DISABLE_WORLD_GRAVITY);
+  body->setGravity(btVector3(0, 0, 0));
 
   FloatingBody& registered = *floating;
   bodies_.push_back(std::move(floating));
@@ -228,6 +239,8 @@ bool BuoyancyController::removeBody(btRigidBody* body) {
     motionState->setWorldTransform(meshWorld);
   }
   if (body->getBroadphaseHandle() != nullptr) world_.updateSingleAabb(body);
+  body->setFlags(floating.originalFlags);
+  body->setGravity(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
   bodies_.erase(it);
   return true;
 }
@@ -311,7 +324,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   const btTransform meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
   const Pose meshPose = toPose(meshWorld);
   const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
-  const Eigen::Vector3d gravity = toEigen(body->getGravity());
+  const Eigen::Vector3d gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
   const double mass = report.massProperties.mass;
   report.hydrostatics = HydrostaticsResult{};
   report.dragForce = report.dragTorque = btVector3(0, 0, 0);
@@ -326,6 +339,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
     if (sphere.y() - floating.boundsRadius > level + margin) {
       ++statistics_.skippedOutOfLiquid;
+      body->setLinearVelocity(body->getLinearVelocity() + toBullet(dt * gravity));  // free fall
       return;
     }
   }
@@ -365,6 +379,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   // Drag: a pass over the drag patches, only for bodies that list it.
   Eigen::Vector3d dragForce = Eigen::Vector3d::Zero(), dragTorque = Eigen::Vector3d::Zero();
   Eigen::Vector3d liquidVelocityAtCenter = toEigen(liquid_.current);
+  double dragDamping = 0.0;  // lambda, dimensionless
   if (effects.has(Effect::Drag)) {
     ++statistics_.dragPasses;
     liquidVelocityAtCenter += surface.velocity(center, time_);
@@ -396,17 +411,14 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
       const double wetted = wettedArea / floating.totalDragPatchArea;
       dragTorque -= settings.rotationalDamping * wetted * (inertiaWorld * w);
     }
-    // Drag must slow a body, never reverse it: with the explicit impulse J and relative
-    // generalized velocity u, lambda = -(u.J)/(u.M.u) is the fraction removed; scaling J by
-    // 1/(1 + lambda) is the backward-Euler answer for a linear damper (unconditionally stable).
+    // Drag is taken implicitly too (linearized backward Euler, F_d(u') = F_d(u) - D (u' - u)), with
+    // D = lambda M / dt the secant damping along the relative motion: lambda = -(u.J)/(u.M.u),
+    // J = dt (F_d, T_d). It can then slow a body but never reverse it, at any time step, and at a
+    // steady state (terminal velocity) it changes nothing.
     const Eigen::Vector3d relativeLinear = v - liquidVelocityAtCenter;
     const double removed = -dt * (relativeLinear.dot(dragForce) + w.dot(dragTorque));
     const double kinetic = mass * relativeLinear.squaredNorm() + w.dot(inertiaWorld * w);
-    if (removed > 0.0 && kinetic > 0.0) {
-      const double scale = 1.0 / (1.0 + removed / kinetic);
-      dragForce *= scale;
-      dragTorque *= scale;
-    }
+    if (removed > 0.0 && kinetic > 0.0) dragDamping = removed / kinetic;
     report.dragForce = toBullet(dragForce);
     report.dragTorque = toBullet(dragTorque);
   }
@@ -420,8 +432,8 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   }
 
   // Velocity update with the hydrostatic stiffness taken implicitly. Generalized velocity
-  // u = (v, w) at the centre of mass; the next step integrates positions with u' = (this
-  // action's velocity + dt g). Linearizing F(x + dt u') = F(x) - K dt u' gives
+  // u = (v, w) at the centre of mass; the next step integrates positions with the u' set here
+  // (gravity is the controller's, see addBody). Linearizing F(x + dt u') = F(x) - K dt u' gives
   //   (M + theta dt^2 K) u' = M u + dt (m g + F_b + F_d) ,
   // K acting on (heave v_y, roll w_x, pitch w_z) (Hydrostatics.hpp; the reference point lies
   // vertically above the centre of mass, so these rates are the body's own). theta = min(1, a),
@@ -435,6 +447,12 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   Vector6d rhs;
   rhs.head<3>() = effectiveMass * v + dt * (mass * gravity + buoyancyForce + dragForce);
   rhs.tail<3>() = inertiaWorld * w + dt * (buoyancyTorque + dragTorque);
+  if (dragDamping > 0.0) {
+    rhs.head<3>() += dragDamping * mass * v;
+    rhs.tail<3>() += dragDamping * (inertiaWorld * w);
+    system.topLeftCorner<3, 3>() += dragDamping * mass * Eigen::Matrix3d::Identity();
+    system.bottomRightCorner<3, 3>() += dragDamping * inertiaWorld;
+  }
   const bool stiff = !stiffness.isZero(0.0) && stiffness.allFinite();
   if (stiff) {
     double rate = 0.0;
@@ -446,10 +464,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * positive(i, j);
   }
-  const Vector6d next = stiff ? Vector6d(system.ldlt().solve(rhs))
-                              : Vector6d((Vector6d() << rhs.head<3>() / effectiveMass,
-                                          inertiaWorld.ldlt().solve(Eigen::Vector3d(rhs.tail<3>())))
-                                             .finished());
+  const Vector6d next = system.ldlt().solve(rhs);
   if (!next.allFinite()) {
     ++statistics_.failedQueries;
     return;
@@ -474,7 +489,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     body->setDeactivationTime(0);
   }
 
-  body->setLinearVelocity(toBullet(Eigen::Vector3d(next.head<3>()) - dt * gravity));
+  body->setLinearVelocity(toBullet(Eigen::Vector3d(next.head<3>())));
   body->setAngularVelocity(toBullet(Eigen::Vector3d(next.tail<3>())));
 }
 
@@ -485,7 +500,7 @@ void BuoyancyController::debugDraw(btIDebugDraw* debugDrawer) {
   for (const auto& floating : bodies_) {
     const btRigidBody* body = floating->body;
     const double mass = floating->report.massProperties.mass;
-    const btVector3 gravity = body->getGravity();
+    const btVector3 gravity = floating->usesWorldGravity ? world_.getGravity() : floating->ownGravity;
     const double weight = mass * double(gravity.length());
     const double scale = settings_.debugMetersPerNewton > 0.0
                              ? settings_.debugMetersPerNewton

@@ -30,6 +30,10 @@ struct FloatingBody {
   double boundsRadius = 0.0;                    ///< m, sphere around boundsCenter holding the mesh
   double referenceLength = 1.0;                 ///< m, largest extent (Reynolds number, debug arrows)
   FloatingBodyReport report;                    ///< last step
+  // The controller integrates gravity itself (see BuoyancyController::addBody): these restore it.
+  bool usesWorldGravity = true;                 ///< the body followed the world's gravity before
+  btVector3 ownGravity{0, 0, 0};                ///< m/s^2, its own gravity when it did not
+  int originalFlags = 0;                        ///< btRigidBody flags before registration
 };
 
 }  // namespace hydrotex::bullet

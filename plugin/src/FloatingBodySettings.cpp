@@ -64,6 +64,9 @@ Status FloatingBodySettings::validate() const {
   if (!(dragPatchNormalCosine >= 0.0 && dragPatchNormalCosine <= 1.0)) {
     return Error{"dragPatchNormalCosine: must lie in [0, 1]"};
   }
+  if (!(dragPatchRadiusFraction > 0.0 && dragPatchRadiusFraction <= 10.0)) {
+    return Error{"dragPatchRadiusFraction: must lie in (0, 10]"};
+  }
   return Ok{};
 }
 

@@ -11,6 +11,7 @@
 /// relative velocity across the patch (rotation) and the quadratic terms.
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "hydrotex/SurfaceBake.hpp"
@@ -56,9 +57,13 @@ Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, c
                                const DragCoefficients& coefficients);
 
 /// Merges the covered texels of each bake tile into patches of texels whose unit normals lie
-/// within `normalCosine` (e.g. 0.9) of the patch's first texel. Texels with no area are skipped.
-/// `textures` must match `bake` (same covered count); a mismatch returns an empty list.
+/// within `normalCosine` (e.g. 0.9) of the patch's first texel and whose centroids lie within
+/// `maxPatchRadius` (m) of it: the radius bounds how much of the lever arm (rotational damping,
+/// which goes as the second moment of the area) merging loses; a tenth of the body's size keeps
+/// that loss near 1 %. Texels with no area are skipped. `textures` must match `bake` (same covered
+/// count); a mismatch returns an empty list.
 std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const SurfaceTextures& textures,
-                                                  double normalCosine = 0.9);
+                                                  double normalCosine = 0.9,
+                                                  double maxPatchRadius = std::numeric_limits<double>::infinity());
 
 }  // namespace hydrotex

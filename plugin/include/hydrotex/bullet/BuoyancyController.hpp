@@ -34,8 +34,8 @@ struct LiquidSettings {
 
 /// Controller-wide tuning (rest detection, debug drawing).
 struct ControllerSettings {
-  /// A body is at rest afloat when |net force| < this * m g ...
-  double restForceFraction = 0.01;
+  /// A body is at rest afloat when |net force| < this * m g (1e-3: within 1 mm of the draft of a 1 m box) ...
+  double restForceFraction = 1.0e-3;
   /// ... its speed is below this (m/s) ...
   double restLinearSpeed = 0.02;
   /// ... and its angular speed below this (rad/s). Until then it is kept awake, whatever

@@ -89,6 +89,8 @@ struct FloatingBodySettings {
   double addedMassCoefficient = 0.5;
   /// Texel normals within this cosine are merged into one drag patch per tile (0..1).
   double dragPatchNormalCosine = 0.9;
+  /// Drag patches reach at most this fraction of the body's largest extent from their first texel.
+  double dragPatchRadiusFraction = 0.1;
 
   /// One line naming the first unusable value, or Ok.
   Status validate() const;

@@ -1,0 +1,116 @@
+#pragma once
+/// @file Scene.hpp
+/// Scene files (JSON) shared by `hydrotex simulate`, the tests and the benchmarks (Box2D's
+/// "scenes defined once"): a liquid, an optional seabed and floating bodies, and SceneWorld, a
+/// headless Bullet world with a BuoyancyController built from one.
+
+#include <btBulletDynamicsCommon.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/Mesh.hpp"
+#include "hydrotex/bullet/BuoyancyController.hpp"
+#include "hydrotex/bullet/FloatingBodySettings.hpp"
+
+namespace hydrotex::bullet {
+
+/// One body of a scene.
+struct SceneBody {
+  std::string name;                                          ///< CSV `body` column
+  std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
+  std::string meshPath;                                      ///< ... loaded from this file
+  std::optional<double> density;                             ///< kg/m^3 (uniform solid)
+  std::optional<double> mass;                                ///< kg (uniform solid)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();        ///< m, mesh frame origin in the world
+  Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero(); ///< degrees, extrinsic X, Y, Z
+  Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();  ///< m/s, of the centre of mass
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero(); ///< rad/s
+  int resolution = 256;                                      ///< texels per side
+  HydrostaticsMethod method = HydrostaticsMethod::Texture;   ///< hydrostatics path
+  EffectSet effects{Effect::Buoyancy, Effect::Drag};         ///< effects it pays for
+};
+
+/// The liquid's free surface.
+struct SceneSurface {
+  /// Kind of surface.
+  enum class Type { Plane, Waves, None };
+  Type type = Type::Plane;             ///< plane, Gerstner waves, or none (a uniform medium)
+  double height = 0.0;                 ///< m, plane height or the waves' mean level
+  std::vector<GerstnerWave> waves;     ///< wave components (Type::Waves)
+};
+
+/// A whole scene.
+struct Scene {
+  std::string sourceName;                               ///< file name for messages
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};             ///< m/s^2
+  double dt = 1.0 / 240.0;                              ///< s per step (> 0)
+  double duration = 10.0;                               ///< s (>= 0)
+  int substeps = 1;                                     ///< fixed sub-steps per step (1..64)
+  double fluidDensity = 1000.0;                         ///< kg/m^3
+  double viscosity = 1.0e-3;                            ///< Pa s
+  Eigen::Vector3d fluidVelocity = Eigen::Vector3d::Zero(); ///< m/s, uniform current
+  SceneSurface surface;                                 ///< free surface
+  std::optional<double> seabed;                         ///< m, static floor height (none when empty)
+  std::vector<SceneBody> bodies;                        ///< at least one
+  /// Number of steps the duration takes (rounded to the nearest whole step).
+  long long stepCount() const;
+  /// One line naming the first impossible value (non-positive dt, NaN, no bodies, ...), or Ok.
+  Status validate() const;
+};
+
+/// Parses scene JSON `text`; mesh paths are resolved against `baseDirectory`; messages start
+/// with `sourceName`. Errors name the key: unknown keys, wrong types, impossible values.
+Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName);
+
+/// Reads and parses the scene file at `path` (mesh paths relative to the file).
+Expected<Scene> loadScene(const std::string& path);
+
+/// The liquid surface a scene describes.
+std::shared_ptr<const LiquidSurface> makeSceneSurface(const Scene& scene);
+
+/// A headless Bullet world running a scene: world, seabed, bodies (convex hulls of their meshes)
+/// and the controller.
+class SceneWorld {
+ public:
+  /// Builds the world; errors from the scene, mesh files and body registration.
+  static Expected<std::unique_ptr<SceneWorld>> create(const Scene& scene);
+  ~SceneWorld();
+  SceneWorld(const SceneWorld&) = delete;
+  SceneWorld& operator=(const SceneWorld&) = delete;
+
+  /// Advances by the scene's dt (its sub-steps included).
+  void step();
+  /// Simulated time (s).
+  double time() const { return time_; }
+  /// The Bullet world.
+  btDiscreteDynamicsWorld& world() { return *world_; }
+  /// The controller.
+  BuoyancyController& controller() { return *controller_; }
+  /// The bodies, in scene order.
+  const std::vector<btRigidBody*>& bodies() const { return bodyPointers_; }
+  /// The scene it runs.
+  const Scene& scene() const { return scene_; }
+
+ private:
+  SceneWorld() = default;
+  Scene scene_;
+  std::unique_ptr<btDefaultCollisionConfiguration> configuration_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btDbvtBroadphase> broadphase_;
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btDefaultMotionState>> motionStates_;
+  std::vector<std::unique_ptr<btRigidBody>> rigidBodies_;
+  std::vector<btRigidBody*> bodyPointers_;
+  std::unique_ptr<BuoyancyController> controller_;
+  double time_ = 0.0;
+};
+
+}  // namespace hydrotex::bullet

@@ -1,0 +1,378 @@
+#include "hydrotex/bullet/Scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "BulletEigen.hpp"
+#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/Pose.hpp"
+
+namespace hydrotex::bullet {
+namespace {
+
+using Json = nlohmann::json;
+
+/// Reads typed values out of a JSON object, naming the key path in every message, and refusing
+/// keys it was not asked about (a typo must not be silently ignored).
+class ObjectReader {
+ public:
+  ObjectReader(const Json& object, std::string path, std::string source)
+      : object_(object), path_(std::move(path)), source_(std::move(source)) {}
+
+  std::string keyPath(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  Error error(const std::string& key, const std::string& what) const {
+    return Error{source_ + ": " + keyPath(key) + ": " + what};
+  }
+  const Json* find(const std::string& key) {
+    known_.insert(key);
+    auto it = object_.find(key);
+    return it == object_.end() ? nullptr : &*it;
+  }
+
+  Status number(const std::string& key, double& out) {
+    const Json* v = find(key);
+    if (v == nullptr) return Ok{};
+    if (!v->is_number()) return error(key, "expected a number");
+    out = v->get<double>();
+    if (!std::isfinite(out)) return error(key, "not finite");
+    return Ok{};
+  }
+  Status optionalNumber(const std::string& key, std::optional<double>& out) {
+    if (object_.find(key) == object_.end()) {
+      known_.insert(key);
+      return Ok{};
+    }
+    double value = 0.0;
+    if (Status s = number(key, value); !s) return s;
+    out = value;
+    return Ok{};
+  }
+  Status integer(const std::string& key, int& out) {
+    const Json* v = find(key);
+    if (v == nullptr) return Ok{};
+    if (!v->is_number_integer()) return error(key, "expected an integer");
+    const auto value = v->get<long long>();
+    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
+      return error(key, "out of range");
+    }
+    out = static_cast<int>(value);
+    return Ok{};
+  }
+  Status string(const std::string& key, std::string& out) {
+    const Json* v = find(key);
+    if (v == nullptr) return Ok{};
+    if (!v->is_string()) return error(key, "expected a string");
+    out = v->get<std::string>();
+    return Ok{};
+  }
+  template <int N>
+  Status vector(const std::string& key, Eigen::Matrix<double, N, 1>& out) {
+    const Json* v = find(key);
+    if (v == nullptr) return Ok{};
+    if (!v->is_array() || v->size() != std::size_t(N)) {
+      return error(key, "expected an array of " + std::to_string(N) + " numbers");
+    }
+    for (int i = 0; i < N; ++i) {
+      const Json& item = (*v)[std::size_t(i)];
+      if (!item.is_number()) return error(key, "expected an array of " + std::to_string(N) + " numbers");
+      out[i] = item.get<double>();
+      if (!std::isfinite(out[i])) return error(key, "not finite");
+    }
+    return Ok{};
+  }
+  /// Error for the first key that nobody asked for.
+  Status rejectUnknown() const {
+    for (auto it = object_.begin(); it != object_.end(); ++it) {
+      if (!known_.count(it.key())) return Error{source_ + ": " + keyPath(it.key()) + ": unknown key"};
+    }
+    return Ok{};
+  }
+
+ private:
+  const Json& object_;
+  std::string path_;
+  std::string source_;
+  std::set<std::string> known_;
+};
+
+#define HYDROTEX_TRY(expr)        \
+  do {                            \
+    if (Status s_ = (expr); !s_) return s_.error(); \
+  } while (false)
+
+Expected<SceneSurface> parseSurface(const Json& json, const std::string& path, const std::string& source) {
+  if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
+  ObjectReader reader(json, path, source);
+  SceneSurface surface;
+  std::string type = "plane";
+  HYDROTEX_TRY(reader.string("type", type));
+  if (type == "plane") {
+    surface.type = SceneSurface::Type::Plane;
+    HYDROTEX_TRY(reader.number("height", surface.height));
+  } else if (type == "waves") {
+    surface.type = SceneSurface::Type::Waves;
+    HYDROTEX_TRY(reader.number("height", surface.height));
+    const Json* waves = reader.find("waves");
+    if (waves == nullptr) return reader.error("waves", "missing (a list of waves)");
+    if (!waves->is_array() || waves->empty()) return reader.error("waves", "expected a non-empty array");
+    for (std::size_t i = 0; i < waves->size(); ++i) {
+      const std::string wavePath = reader.keyPath("waves") + "[" + std::to_string(i) + "]";
+      const Json& item = (*waves)[i];
+      if (!item.is_object()) return Error{source + ": " + wavePath + ": expected an object"};
+      ObjectReader waveReader(item, wavePath, source);
+      GerstnerWave wave;
+      HYDROTEX_TRY(waveReader.number("amplitude", wave.amplitude));
+      HYDROTEX_TRY(waveReader.number("wavelength", wave.wavelength));
+      HYDROTEX_TRY(waveReader.vector<2>("direction", wave.direction));
+      HYDROTEX_TRY(waveReader.number("phase", wave.phase));
+      HYDROTEX_TRY(waveReader.number("steepness", wave.steepness));
+      HYDROTEX_TRY(waveReader.rejectUnknown());
+      if (!(wave.amplitude >= 0.0)) return waveReader.error("amplitude", "must be >= 0");
+      if (!(wave.wavelength > 0.0)) return waveReader.error("wavelength", "must be > 0");
+      if (wave.direction.norm() == 0.0) return waveReader.error("direction", "must not be zero");
+      if (!(wave.steepness >= 0.0 && wave.steepness <= 1.0)) return waveReader.error("steepness", "must lie in [0, 1]");
+      surface.waves.push_back(wave);
+    }
+  } else if (type == "none") {
+    surface.type = SceneSurface::Type::None;
+  } else {
+    return reader.error("type", "'" + type + "' is not one of plane, waves, none");
+  }
+  HYDROTEX_TRY(reader.rejectUnknown());
+  return surface;
+}
+
+Expected<SceneBody> parseBody(const Json& json, const std::string& path, const std::string& source,
+                              const std::string& baseDirectory) {
+  if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
+  ObjectReader reader(json, path, source);
+  SceneBody body;
+  HYDROTEX_TRY(reader.string("name", body.name));
+  std::string mesh;
+  HYDROTEX_TRY(reader.string("mesh", mesh));
+  if (mesh.empty()) return reader.error("mesh", "missing (a mesh file)");
+  const std::filesystem::path meshPath = std::filesystem::path(baseDirectory) / mesh;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(meshPath, ec)) return reader.error("mesh", meshPath.string() + ": no such file");
+  body.meshPath = meshPath.string();
+  HYDROTEX_TRY(reader.optionalNumber("density", body.density));
+  HYDROTEX_TRY(reader.optionalNumber("mass", body.mass));
+  HYDROTEX_TRY(reader.vector<3>("position", body.position));
+  HYDROTEX_TRY(reader.vector<3>("rotation_deg", body.rotationDegrees));
+  HYDROTEX_TRY(reader.vector<3>("linear_velocity", body.linearVelocity));
+  HYDROTEX_TRY(reader.vector<3>("angular_velocity", body.angularVelocity));
+  HYDROTEX_TRY(reader.integer("resolution", body.resolution));
+  std::string method = "texture";
+  HYDROTEX_TRY(reader.string("method", method));
+  if (method == "texture") {
+    body.method = HydrostaticsMethod::Texture;
+  } else if (method == "polyhedral" || method == "exact") {
+    body.method = HydrostaticsMethod::Polyhedral;
+  } else {
+    return reader.error("method", "'" + method + "' is not one of texture, polyhedral");
+  }
+  if (const Json* effects = reader.find("effects")) {
+    if (!effects->is_array()) return reader.error("effects", "expected an array of effect names");
+    body.effects = EffectSet{};
+    for (const Json& item : *effects) {
+      if (!item.is_string()) return reader.error("effects", "expected an array of effect names");
+      const std::optional<Effect> effect = effectFromName(item.get<std::string>());
+      if (!effect) return reader.error("effects", "unknown effect '" + item.get<std::string>() + "'");
+      body.effects.add(*effect);
+    }
+  }
+  HYDROTEX_TRY(reader.rejectUnknown());
+  if (!body.density && !body.mass) return Error{source + ": " + path + ": needs density or mass"};
+  if (body.density && body.mass) return Error{source + ": " + path + ": give density or mass, not both"};
+  if (body.density && !(*body.density > 0.0)) return reader.error("density", "must be > 0");
+  if (body.mass && !(*body.mass > 0.0)) return reader.error("mass", "must be > 0");
+  if (body.resolution < 16 || body.resolution > 4096) return reader.error("resolution", "must lie in 16..4096");
+  return body;
+}
+
+}  // namespace
+
+long long Scene::stepCount() const {
+  if (!(dt > 0.0) || !(duration >= 0.0)) return 0;
+  return static_cast<long long>(std::llround(duration / dt));
+}
+
+Status Scene::validate() const {
+  const std::string prefix = sourceName.empty() ? std::string("scene") : sourceName;
+  if (!gravity.allFinite()) return Error{prefix + ": gravity: not finite"};
+  if (!(std::isfinite(dt) && dt > 0.0 && dt <= 1.0)) return Error{prefix + ": dt: must lie in (0, 1] s"};
+  if (!(std::isfinite(duration) && duration >= 0.0 && duration / dt <= 1e8)) {
+    return Error{prefix + ": duration: must be >= 0 and at most 1e8 steps"};
+  }
+  if (substeps < 1 || substeps > 64) return Error{prefix + ": substeps: must lie in 1..64"};
+  if (!(std::isfinite(fluidDensity) && fluidDensity > 0.0)) return Error{prefix + ": fluid.density: must be > 0"};
+  if (!(std::isfinite(viscosity) && viscosity >= 0.0)) return Error{prefix + ": fluid.viscosity: must be >= 0"};
+  if (!fluidVelocity.allFinite()) return Error{prefix + ": fluid.velocity: not finite"};
+  if (seabed && !std::isfinite(*seabed)) return Error{prefix + ": seabed: not finite"};
+  if (bodies.empty()) return Error{prefix + ": bodies: at least one body is needed"};
+  return Ok{};
+}
+
+Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName) {
+  const Json json = Json::parse(text, nullptr, false);
+  if (json.is_discarded()) return Error{sourceName + ": not valid JSON"};
+  if (!json.is_object()) return Error{sourceName + ": expected a JSON object at the top level"};
+  ObjectReader reader(json, "", sourceName);
+  Scene scene;
+  scene.sourceName = sourceName;
+  HYDROTEX_TRY(reader.vector<3>("gravity", scene.gravity));
+  HYDROTEX_TRY(reader.number("dt", scene.dt));
+  HYDROTEX_TRY(reader.number("duration", scene.duration));
+  HYDROTEX_TRY(reader.integer("substeps", scene.substeps));
+  if (const Json* fluid = reader.find("fluid")) {
+    if (!fluid->is_object()) return reader.error("fluid", "expected an object");
+    ObjectReader fluidReader(*fluid, "fluid", sourceName);
+    HYDROTEX_TRY(fluidReader.number("density", scene.fluidDensity));
+    HYDROTEX_TRY(fluidReader.number("viscosity", scene.viscosity));
+    HYDROTEX_TRY(fluidReader.vector<3>("velocity", scene.fluidVelocity));
+    if (const Json* surface = fluidReader.find("surface")) {
+      Expected<SceneSurface> parsed = parseSurface(*surface, "fluid.surface", sourceName);
+      if (!parsed) return parsed.error();
+      scene.surface = std::move(parsed).value();
+    }
+    HYDROTEX_TRY(fluidReader.rejectUnknown());
+  }
+  std::optional<double> seabed;
+  HYDROTEX_TRY(reader.optionalNumber("seabed", seabed));
+  scene.seabed = seabed;
+  const Json* bodies = reader.find("bodies");
+  if (bodies == nullptr) return reader.error("bodies", "missing (a list of bodies)");
+  if (!bodies->is_array()) return reader.error("bodies", "expected an array");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < bodies->size(); ++i) {
+    const std::string path = "bodies[" + std::to_string(i) + "]";
+    Expected<SceneBody> body = parseBody((*bodies)[i], path, sourceName, baseDirectory);
+    if (!body) return body.error();
+    if (body->name.empty()) body->name = "body" + std::to_string(i);
+    if (!names.insert(body->name).second) return Error{sourceName + ": " + path + ".name: '" + body->name + "' is used twice"};
+    scene.bodies.push_back(std::move(body).value());
+  }
+  HYDROTEX_TRY(reader.rejectUnknown());
+  if (Status s = scene.validate(); !s) return s.error();
+  return scene;
+}
+
+Expected<Scene> loadScene(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": no such file"};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path + ": cannot be read"};
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parseScene(text.str(), base.empty() ? "." : base, path);
+}
+
+std::shared_ptr<const LiquidSurface> makeSceneSurface(const Scene& scene) {
+  switch (scene.surface.type) {
+    case SceneSurface::Type::Waves:
+      return std::make_shared<GerstnerWaves>(scene.surface.waves, scene.surface.height, scene.fluidDensity,
+                                             std::max(1e-9, scene.gravity.norm()));
+    case SceneSurface::Type::None:
+      return std::make_shared<UniformMedium>(scene.fluidDensity, std::numeric_limits<double>::infinity(), 0.0);
+    case SceneSurface::Type::Plane:
+    default:
+      return std::make_shared<FlatSurface>(scene.surface.height, scene.fluidDensity);
+  }
+}
+
+Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
+  if (Status s = scene.validate(); !s) return s.error();
+  std::unique_ptr<SceneWorld> self(new SceneWorld());
+  self->scene_ = scene;
+  self->configuration_ = std::make_unique<btDefaultCollisionConfiguration>();
+  self->dispatcher_ = std::make_unique<btCollisionDispatcher>(self->configuration_.get());
+  self->broadphase_ = std::make_unique<btDbvtBroadphase>();
+  self->solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
+  self->world_ = std::make_unique<btDiscreteDynamicsWorld>(self->dispatcher_.get(), self->broadphase_.get(),
+                                                           self->solver_.get(), self->configuration_.get());
+  self->world_->setGravity(toBullet(scene.gravity));
+
+  LiquidSettings liquid;
+  liquid.surface = makeSceneSurface(scene);
+  liquid.viscosity = scene.viscosity;
+  liquid.current = toBullet(scene.fluidVelocity);
+  if (Status s = liquid.validate(); !s) return Error{scene.sourceName + ": fluid: " + s.error().message};
+  self->controller_ = std::make_unique<BuoyancyController>(*self->world_, liquid);
+  self->world_->addAction(self->controller_.get());
+
+  if (scene.seabed) {
+    auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(*scene.seabed));
+    btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
+    auto floor = std::make_unique<btRigidBody>(info);
+    self->world_->addRigidBody(floor.get());
+    self->shapes_.push_back(std::move(plane));
+    self->rigidBodies_.push_back(std::move(floor));
+  }
+
+  std::map<std::string, std::shared_ptr<const Mesh>> meshCache;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const SceneBody& sceneBody = scene.bodies[i];
+    const std::string prefix = scene.sourceName + ": bodies[" + std::to_string(i) + "]: ";
+    std::shared_ptr<const Mesh> mesh = sceneBody.mesh;
+    if (!mesh) {
+      auto cached = meshCache.find(sceneBody.meshPath);
+      if (cached == meshCache.end()) {
+        Expected<Mesh> loaded = loadMesh(sceneBody.meshPath);
+        if (!loaded) return Error{prefix + loaded.error().message};
+        cached = meshCache.emplace(sceneBody.meshPath, std::make_shared<const Mesh>(std::move(loaded).value())).first;
+      }
+      mesh = cached->second;
+    }
+    if (mesh->positions.empty()) return Error{prefix + "mesh: no vertices"};
+    // Collision: the convex hull of the mesh, in the mesh frame (the controller offsets it).
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector3d& p : mesh->positions) hull->addPoint(toBullet(p), false);
+    hull->recalcLocalAabb();
+    const Pose pose = Pose::fromDegreesXYZ(sceneBody.rotationDegrees, sceneBody.position);
+    btTransform start(toBulletBasis(pose.rotation), toBullet(pose.translation));
+    auto motionState = std::make_unique<btDefaultMotionState>(start);
+    btRigidBody::btRigidBodyConstructionInfo info(1, motionState.get(), hull.get(), btVector3(1, 1, 1));
+    auto body = std::make_unique<btRigidBody>(info);
+    FloatingBodySettings settings;
+    settings.mesh = mesh;
+    settings.resolution = sceneBody.resolution;
+    settings.method = sceneBody.method;
+    settings.density = sceneBody.density;
+    settings.mass = sceneBody.mass;
+    settings.effects = sceneBody.effects;
+    if (Status s = self->controller_->addBody(body.get(), settings); !s) return Error{prefix + s.error().message};
+    body->setLinearVelocity(toBullet(sceneBody.linearVelocity));
+    body->setAngularVelocity(toBullet(sceneBody.angularVelocity));
+    self->world_->addRigidBody(body.get());
+    self->bodyPointers_.push_back(body.get());
+    self->shapes_.push_back(std::move(hull));
+    self->motionStates_.push_back(std::move(motionState));
+    self->rigidBodies_.push_back(std::move(body));
+  }
+  return self;
+}
+
+SceneWorld::~SceneWorld() {
+  if (world_ && controller_) world_->removeAction(controller_.get());
+  controller_.reset();  // gives the bodies their own shapes back while they still exist
+  for (auto& body : rigidBodies_) {
+    if (world_) world_->removeRigidBody(body.get());
+  }
+}
+
+void SceneWorld::step() {
+  // One fixed sub-step per call: stepSimulation's own accumulator, in btScalar, may round
+  // dt / substeps to one sub-step too few or too many.
+  const btScalar fixed = btScalar(scene_.dt / scene_.substeps);
+  for (int i = 0; i < scene_.substeps; ++i) world_->stepSimulation(fixed, 1, fixed);
+  time_ += scene_.dt;
+}
+
+}  // namespace hydrotex::bullet

@@ -1,0 +1,87 @@
+#pragma once
+// A small headless Bullet world with one BuoyancyController, for the plugin's tests: boxes are
+// added with full FloatingBodySettings so that each test can pick effects and coefficients.
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <vector>
+
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bullet/BuoyancyController.hpp"
+
+namespace hydrotex::bullet::testing {
+
+/// World + controller; bodies are removed and destroyed in the right order.
+class TestWorld {
+ public:
+  explicit TestWorld(std::shared_ptr<const LiquidSurface> surface = std::make_shared<FlatSurface>(0.0, 1000.0),
+                     double viscosity = 1.0e-3)
+      : dispatcher_(&configuration_), world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
+    world_.setGravity(btVector3(0, btScalar(-9.81), 0));
+    LiquidSettings liquid;
+    liquid.surface = std::move(surface);
+    liquid.viscosity = viscosity;
+    controller_ = std::make_unique<BuoyancyController>(world_, liquid);
+    world_.addAction(controller_.get());
+  }
+  ~TestWorld() {
+    world_.removeAction(controller_.get());
+    controller_.reset();
+    for (auto& body : bodies_) world_.removeRigidBody(body.get());
+  }
+  TestWorld(const TestWorld&) = delete;
+  TestWorld& operator=(const TestWorld&) = delete;
+
+  /// Adds a body with `mesh` placed (mesh frame) at `position`, rotated by `rotation`, floating per
+  /// `settings` (its mesh is set here). Returns null and stores the error when addBody fails.
+  btRigidBody* add(const Mesh& mesh, FloatingBodySettings settings, const btVector3& position,
+                   const btQuaternion& rotation = btQuaternion::getIdentity()) {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector3d& p : mesh.positions) {
+      hull->addPoint(btVector3(btScalar(p.x()), btScalar(p.y()), btScalar(p.z())), false);
+    }
+    hull->recalcLocalAabb();
+    btRigidBody::btRigidBodyConstructionInfo info(1, nullptr, hull.get(), btVector3(1, 1, 1));
+    auto body = std::make_unique<btRigidBody>(info);
+    body->setWorldTransform(btTransform(rotation, position));
+    settings.mesh = std::make_shared<const Mesh>(mesh);
+    lastStatus = controller_->addBody(body.get(), settings);
+    if (!lastStatus) return nullptr;
+    world_.addRigidBody(body.get());
+    shapes_.push_back(std::move(hull));
+    bodies_.push_back(std::move(body));
+    return bodies_.back().get();
+  }
+
+  /// One fixed step of `dt` seconds (one sub-step).
+  void step(double dt) { world_.stepSimulation(btScalar(dt), 1, btScalar(dt)); }
+
+  btDiscreteDynamicsWorld& world() { return world_; }
+  BuoyancyController& controller() { return *controller_; }
+  Status lastStatus = Ok{};  ///< result of the last add()
+
+ private:
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  btDiscreteDynamicsWorld world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  std::unique_ptr<BuoyancyController> controller_;
+};
+
+/// Settings for a uniform solid of `density` with the listed effects and the given method.
+inline FloatingBodySettings solid(double density, EffectSet effects,
+                                  HydrostaticsMethod method = HydrostaticsMethod::Polyhedral, int resolution = 64) {
+  FloatingBodySettings settings;
+  settings.density = density;
+  settings.effects = effects;
+  settings.method = method;
+  settings.resolution = resolution;
+  return settings;
+}
+
+}  // namespace hydrotex::bullet::testing
