@@ -32,6 +32,10 @@ struct WettedSums {
   double wettedArea = 0;           ///< Sum frac |A| (m^2)
   double pressureForce[3] = {0, 0, 0};   ///< -Sum p A (N), only for non-flat surfaces
   double pressureTorque[3] = {0, 0, 0};  ///< -Sum x' x p A (N m), only for non-flat surfaces
+  /// Factor on the volume sums (volume, force, torque; not the water plane): the texture path
+  /// sets it to the body's exact enclosed volume over the same sums for the whole body at this
+  /// orientation (see TextureHydrostatics.cpp); 1 for the exact path.
+  double volumeScale = 1.0;
 
   /// Adds one element (a texel patch or a triangle) at x' with area vector a (m^2), area |A|,
   /// submerged area fraction `frac`, D, Q (see the file comment) and local surface height h'.

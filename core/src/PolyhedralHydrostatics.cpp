@@ -11,10 +11,10 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "HydrostaticSums.hpp"
+#include "hydrotex/MeshValidation.hpp"
 
 namespace hydrotex {
 
@@ -96,24 +96,12 @@ bool indicesInRange(const Mesh& mesh) {
 }  // namespace
 
 Status checkClosedMesh(const Mesh& mesh) {
-  const std::string name = mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName;
-  if (mesh.triangles.empty()) return Error{name + ": has no triangles"};
-  if (!indicesInRange(mesh)) return Error{name + ": a triangle index is out of range"};
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(mesh.triangles.size() * 3);
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    for (int c = 0; c < 3; ++c) edges.emplace_back(t[c], t[(c + 1) % 3]);
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    const auto [a, b] = edges[e];
-    const std::string edge = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
-    if (a == b) return Error{name + ": degenerate " + edge};
-    if (e + 1 < edges.size() && edges[e + 1] == edges[e])
-      return Error{name + ": " + edge + " is used twice in the same direction (not closed or not oriented)"};
-    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a)))
-      return Error{name + ": " + edge + " has no opposite edge (the mesh is open)"};
-  }
-  return Ok{};
+  // One closedness check in the project: MeshValidation's. Only the topology is needed here, so
+  // the UVs are left out (their overlap search would dominate the cost).
+  Mesh topology;
+  topology.positions = mesh.positions;
+  topology.triangles = mesh.triangles;
+  return requireClosed(validateMesh(topology), mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName);
 }
 
 Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const LiquidSurface& surface,

@@ -76,6 +76,22 @@ inline void verticalRange(const Eigen::Vector3d& center, const Eigen::Vector3d& 
   high = c + h;
 }
 
+/// Calibration of the volume sums: the enclosed volume (1/3) Sum p . A is exact from the texels
+/// (SurfaceTextures::position is shifted along the area vector for that), whereas the y-field sum
+/// Sum y' A'_y, which the waterline needs, takes each texel's centre as its quadrature point and is
+/// off by O(texel^2) (~1e-4 at 128^2) where a texel spans several triangles. That sum for the whole
+/// body at this orientation is O(1) from the moments; scaling every volume sum by the ratio makes a
+/// wholly submerged body exact and keeps the partly submerged volume continuous and monotonic in
+/// the water level (it is one factor per pose).
+double volumeScale(const Moments& m, double enclosedVolume, const Eigen::Matrix3d& r, double offsetY) {
+  double wholeBody = 0.0;  // Sum (r1 . p + offsetY) (r1 . A), r1 the rotation's y row
+  for (int i = 0; i < 3; ++i) {
+    wholeBody += offsetY * r(1, i) * m.sumA[i];
+    for (int k = 0; k < 3; ++k) wholeBody += r(1, i) * r(1, k) * m.sumPA[i][k];
+  }
+  return wholeBody > 0.0 ? enclosedVolume / wholeBody : 1.0;
+}
+
 }  // namespace
 
 void TextureHydrostatics::Moments::add(const Moments& o) {
@@ -171,6 +187,7 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
   const Eigen::Matrix3d& r = q.pose.rotation;
   const Eigen::Vector3d& t = q.pose.translation;
   detail::WettedSums sums;
+  sums.volumeScale = volumeScale(total_, enclosedVolume_, r, 0.0);
 
   if (!surface.hasFreeSurface()) {
     // A medium: every texel is submerged; pressure from the medium at each texel centre.
