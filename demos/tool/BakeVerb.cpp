@@ -111,12 +111,10 @@ int runBake(const BakeOptions& options) {
 
 void addBakeVerb(CLI::App& app, VerbAction& action) {
   auto options = std::make_shared<BakeOptions>();
-  CLI::App* verb = app.add_subcommand("bake", "write the position and vector-area textures as images and float data");
+  CLI::App* verb = addVerb(app, action, "bake", "write the position and vector-area textures as images and float data", options, &runBake);
   verb->add_option("MESH", options->meshPath, "mesh file")->required();
   addResolutionOption(*verb, options->resolution)->required();
   verb->add_option("--out", options->outDir, "output directory (created)")->required();
-  verb->add_flag("--json", options->json, "print one JSON object");
-  verb->callback([options, &action] { action = [options] { return runBake(*options); }; });
 }
 
 }  // namespace hydrotex::tool

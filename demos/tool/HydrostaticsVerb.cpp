@@ -16,8 +16,7 @@ namespace hydrotex::tool {
 namespace {
 struct HydrostaticsOptions {
   std::string meshPath;
-  std::string method = "texture";
-  int resolution = 256;
+  MethodOptions method;
   Eigen::Vector3d translate = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotateDegrees = Eigen::Vector3d::Zero();
   double waterLevel = 0.0;
@@ -28,9 +27,8 @@ struct HydrostaticsOptions {
 
 int runHydrostatics(const HydrostaticsOptions& options) {
   BodyGeometrySettings settings;
-  settings.bake.width = settings.bake.height = options.resolution;
-  // The exact path needs no bake; keep it cheap by baking at the smallest size only for texture.
-  if (options.method == "exact") settings.bake.width = settings.bake.height = 16;
+  // The exact path needs no bake: the smallest one keeps the shared preparation cheap.
+  settings.bake.width = settings.bake.height = options.method.texture() ? options.method.resolution : 16;
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
   if (!body) return reportError(body.error());
 
@@ -46,7 +44,7 @@ int runHydrostatics(const HydrostaticsOptions& options) {
   query.centerOfMass = solid->centerOfMass;
 
   Expected<HydrostaticsResult> result = Error{""};
-  if (options.method == "exact") {
+  if (!options.method.texture()) {
     result = polyhedralHydrostatics(body->mesh, water, query);
   } else {
     Expected<TextureHydrostatics> texture = TextureHydrostatics::build(body->bake, body->textures);
@@ -64,22 +62,18 @@ int runHydrostatics(const HydrostaticsOptions& options) {
   out["waterplane_centroid"] = toJson(result->waterplaneCentroid);
   out["wetted_area"] = result->wettedArea;
   out["stiffness"] = toJson(result->stiffness);
-  out["method"] = options.method;
-  out["resolution"] = options.method == "texture" ? nlohmann::json(options.resolution) : nlohmann::json(nullptr);
+  options.method.addTo(out);
 
   std::ostringstream text;
   text.precision(8);
-  text << options.meshPath << " (" << options.method;
-  if (options.method == "texture") text << ", " << options.resolution << "^2 texels";
-  text << "), water at y = " << options.waterLevel << " m\n"
+  text << options.method.describe(options.meshPath) << ", water at y = " << options.waterLevel << " m\n"
        << "  submerged volume    " << result->submergedVolume << " m^3\n"
        << "  centre of buoyancy  " << formatVector(result->centerOfBuoyancy) << " m\n"
        << "  buoyancy force      " << formatVector(result->buoyancyForce) << " N\n"
        << "  waterplane area     " << result->waterplaneArea << " m^2 at " << formatVector(result->waterplaneCentroid) << "\n"
        << "  wetted area         " << result->wettedArea << " m^2\n"
-       << "  stiffness (heave, roll, pitch):\n";
-  for (int r = 0; r < 3; ++r)
-    text << "    " << result->stiffness(r, 0) << "  " << result->stiffness(r, 1) << "  " << result->stiffness(r, 2) << "\n";
+       << "  stiffness (heave, roll, pitch):\n"
+       << formatMatrix(result->stiffness);
   printResult(options.json, out, text.str());
   return 0;
 }
@@ -87,19 +81,16 @@ int runHydrostatics(const HydrostaticsOptions& options) {
 
 void addHydrostaticsVerb(CLI::App& app, VerbAction& action) {
   auto options = std::make_shared<HydrostaticsOptions>();
-  CLI::App* verb = app.add_subcommand("hydrostatics", "submerged volume, buoyancy, waterplane and stiffness at a pose");
+  CLI::App* verb = addVerb(app, action, "hydrostatics", "submerged volume, buoyancy, waterplane and stiffness at a pose",
+                           options, &runHydrostatics);
   verb->add_option("MESH", options->meshPath, "closed mesh file")->required();
-  verb->add_option("--method", options->method, "exact (polyhedral clip) or texture")
-      ->check(CLI::IsMember({"exact", "texture"}));
-  addResolutionOption(*verb, options->resolution);
+  addMethodOptions(*verb, options->method);
   addVector3Option(*verb, "--translate", options->translate, "X,Y,Z translation (m), applied after the rotation");
   addVector3Option(*verb, "--rotate-deg", options->rotateDegrees, "RX,RY,RZ extrinsic X then Y then Z (degrees)");
   verb->add_option("--water-level", options->waterLevel, "height H of the water plane y = H (m)")
       ->check(CLI::Range(-1e9, 1e9));
   verb->add_option("--fluid-density", options->fluidDensity, "kg/m^3 (default 1000)")->check(CLI::PositiveNumber);
   verb->add_option("--gravity", options->gravity, "m/s^2 (default 9.81)")->check(CLI::PositiveNumber);
-  verb->add_flag("--json", options->json, "print one JSON object");
-  verb->callback([options, &action] { action = [options] { return runHydrostatics(*options); }; });
 }
 
 }  // namespace hydrotex::tool

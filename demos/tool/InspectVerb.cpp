@@ -46,10 +46,8 @@ int runInspect(const InspectOptions& options) {
 
 void addInspectVerb(CLI::App& app, VerbAction& action) {
   auto options = std::make_shared<InspectOptions>();
-  CLI::App* verb = app.add_subcommand("inspect", "counts, watertightness, UVs, area, volume and bounds of a mesh");
+  CLI::App* verb = addVerb(app, action, "inspect", "counts, watertightness, UVs, area, volume and bounds of a mesh", options, &runInspect);
   verb->add_option("MESH", options->meshPath, "mesh file (any format assimp reads)")->required();
-  verb->add_flag("--json", options->json, "print one JSON object");
-  verb->callback([options, &action] { action = [options] { return runInspect(*options); }; });
 }
 
 }  // namespace hydrotex::tool

@@ -16,8 +16,7 @@ namespace hydrotex::tool {
 namespace {
 struct MassOptions {
   std::string meshPath;
-  std::string method = "texture";
-  int resolution = 256;
+  MethodOptions method;
   double density = 1000.0;
   std::string densityMapPath;
   std::vector<double> densityRange;
@@ -26,7 +25,7 @@ struct MassOptions {
 
 Expected<MassProperties> textureMass(const MassOptions& options) {
   BodyGeometrySettings settings;
-  settings.bake.width = settings.bake.height = options.resolution;
+  settings.bake.width = settings.bake.height = options.method.resolution;
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
   if (!body) return body.error();
 
@@ -47,13 +46,13 @@ Expected<MassProperties> textureMass(const MassOptions& options) {
 }
 
 int runMass(const MassOptions& options) {
-  if (!options.densityMapPath.empty() && options.method != "texture")
+  if (!options.densityMapPath.empty() && !options.method.texture())
     return reportError(Error{"--density-map needs --method texture (the exact path is uniform)"});
   if (!options.densityMapPath.empty() && options.densityRange.size() != 2)
     return reportError(Error{"--density-map needs --density-range MIN,MAX (kg/m^3 for black and white)"});
 
   Expected<MassProperties> mass = Error{""};
-  if (options.method == "exact") {
+  if (!options.method.texture()) {
     Expected<Mesh> mesh = loadMesh(options.meshPath);
     if (!mesh) return reportError(mesh.error());
     mass = polyhedralMassProperties(*mesh, options.density);
@@ -68,17 +67,14 @@ int runMass(const MassOptions& options) {
   out["volume"] = mass->volume;
   out["center_of_mass"] = toJson(mass->centerOfMass);
   out["inertia"] = toJson(mass->inertia);
-  out["method"] = options.method;
-  out["resolution"] = options.method == "texture" ? nlohmann::json(options.resolution) : nlohmann::json(nullptr);
+  options.method.addTo(out);
 
   std::ostringstream text;
   text.precision(8);
-  text << options.meshPath << " (" << options.method;
-  if (options.method == "texture") text << ", " << options.resolution << "^2 texels";
-  text << ")\n  mass           " << mass->mass << " kg\n  volume         " << mass->volume
-       << " m^3\n  centre of mass " << formatVector(mass->centerOfMass) << " m\n  inertia about the centre of mass (kg m^2):\n";
-  for (int r = 0; r < 3; ++r)
-    text << "    " << mass->inertia(r, 0) << "  " << mass->inertia(r, 1) << "  " << mass->inertia(r, 2) << "\n";
+  text << options.method.describe(options.meshPath) << "\n  mass           " << mass->mass << " kg\n  volume         "
+       << mass->volume << " m^3\n  centre of mass " << formatVector(mass->centerOfMass)
+       << " m\n  inertia about the centre of mass (kg m^2):\n"
+       << formatMatrix(mass->inertia);
   printResult(options.json, out, text.str());
   return 0;
 }
@@ -86,11 +82,10 @@ int runMass(const MassOptions& options) {
 
 void addMassVerb(CLI::App& app, VerbAction& action) {
   auto options = std::make_shared<MassOptions>();
-  CLI::App* verb = app.add_subcommand("mass", "mass, volume, centre of mass and inertia of a closed mesh");
+  CLI::App* verb = addVerb(app, action, "mass", "mass, volume, centre of mass and inertia of a closed mesh", options,
+                           &runMass);
   verb->add_option("MESH", options->meshPath, "closed mesh file")->required();
-  verb->add_option("--method", options->method, "exact (polyhedral) or texture")
-      ->check(CLI::IsMember({"exact", "texture"}));
-  addResolutionOption(*verb, options->resolution);
+  addMethodOptions(*verb, options->method);
   verb->add_option("--density", options->density, "uniform solid density (kg/m^3)")
       ->check(CLI::PositiveNumber);
   verb->add_option("--density-map", options->densityMapPath, "PNG whose gray level sets the density")
@@ -99,8 +94,6 @@ void addMassVerb(CLI::App& app, VerbAction& action) {
       ->delimiter(',')
       ->expected(2)
       ->check(CLI::NonNegativeNumber);
-  verb->add_flag("--json", options->json, "print one JSON object");
-  verb->callback([options, &action] { action = [options] { return runMass(*options); }; });
 }
 
 }  // namespace hydrotex::tool

@@ -27,6 +27,23 @@ CLI::Option* addResolutionOption(CLI::App& app, int& resolution) {
       ->check(CLI::Range(16, 4096));
 }
 
+std::string MethodOptions::describe(const std::string& meshPath) const {
+  std::string text = meshPath + " (" + method;
+  if (texture()) text += ", " + std::to_string(resolution) + "^2 texels";
+  return text + ")";
+}
+
+void MethodOptions::addTo(nlohmann::json& out) const {
+  out["method"] = method;
+  out["resolution"] = texture() ? nlohmann::json(resolution) : nlohmann::json(nullptr);
+}
+
+void addMethodOptions(CLI::App& verb, MethodOptions& options) {
+  verb.add_option("--method", options.method, "exact (polyhedral) or texture (default)")
+      ->check(CLI::IsMember({"exact", "texture"}));
+  addResolutionOption(verb, options.resolution);
+}
+
 int reportError(const Error& error) {
   std::cerr << "hydrotex: " << error.message << "\n";
   return 1;
@@ -51,6 +68,13 @@ std::string formatVector(const Eigen::Vector3d& v) {
   std::ostringstream out;
   out.precision(6);
   out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return out.str();
+}
+
+std::string formatMatrix(const Eigen::Matrix3d& m) {
+  std::ostringstream out;
+  out.precision(8);
+  for (int r = 0; r < 3; ++r) out << "    " << m(r, 0) << "  " << m(r, 1) << "  " << m(r, 2) << "\n";
   return out.str();
 }
 

@@ -4,8 +4,10 @@
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
 
+#include "Verbs.hpp"
 #include "hydrotex/Expected.hpp"
 
 namespace hydrotex::tool {
@@ -16,6 +18,32 @@ CLI::Option* addVector3Option(CLI::App& app, const std::string& name, Eigen::Vec
 
 /// Adds `--resolution N` (texels per side, 16..4096).
 CLI::Option* addResolutionOption(CLI::App& app, int& resolution);
+
+/// How a verb computes: the exact polyhedral path or the texture path at a resolution.
+struct MethodOptions {
+  std::string method = "texture";  ///< "exact" or "texture"
+  int resolution = 256;            ///< texels per side (texture path)
+  /// True for the texture path.
+  bool texture() const { return method == "texture"; }
+  /// "MESH (texture, 256^2 texels)" or "MESH (exact)", the first line of a readable summary.
+  std::string describe(const std::string& meshPath) const;
+  /// The `method` and `resolution` JSON keys (resolution null for the exact path).
+  void addTo(nlohmann::json& out) const;
+};
+
+/// Adds `--method exact|texture` and `--resolution N`.
+void addMethodOptions(CLI::App& verb, MethodOptions& options);
+
+/// Registers a verb whose options live in `options` (which has a `bool json`): adds `--json` and
+/// makes `run(*options)` the action when the verb is chosen.
+template <class Options>
+CLI::App* addVerb(CLI::App& app, VerbAction& action, const std::string& name, const std::string& description,
+                  const std::shared_ptr<Options>& options, int (*run)(const Options&)) {
+  CLI::App* verb = app.add_subcommand(name, description);
+  verb->add_flag("--json", options->json, "print one JSON object");
+  verb->callback([options, run, &action] { action = [options, run] { return run(*options); }; });
+  return verb;
+}
 
 /// Prints the error on one line to stderr, prefixed "hydrotex: ", and returns exit code 1.
 int reportError(const Error& error);
@@ -30,5 +58,8 @@ void printResult(bool json, const nlohmann::json& object, const std::string& tex
 
 /// Formats a vector as "(x, y, z)" with 6 significant digits for readable output.
 std::string formatVector(const Eigen::Vector3d& v);
+
+/// Formats a 3x3 matrix as three indented rows, one per line.
+std::string formatMatrix(const Eigen::Matrix3d& m);
 
 }  // namespace hydrotex::tool

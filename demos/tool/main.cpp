@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include "Verbs.hpp"
 #include "hydrotex/Version.hpp"
@@ -21,6 +22,17 @@ int main(int argc, char** argv) {
 #ifdef HYDROTEX_WITH_BULLET
   hydrotex::tool::addSimulateVerb(app, action);
 #endif
+  // CLI11 reports an unknown verb as "a subcommand is required"; name it instead.
+  std::string verbs;
+  bool knownVerb = false;
+  for (const CLI::App* verb : app.get_subcommands({})) {
+    verbs += (verbs.empty() ? "" : ", ") + verb->get_name();
+    knownVerb = knownVerb || (argc > 1 && verb->get_name() == argv[1]);
+  }
+  if (argc > 1 && argv[1][0] != '-' && !knownVerb) {
+    std::cerr << "hydrotex: unknown verb '" << argv[1] << "' (verbs: " << verbs << ")\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,135 @@
+// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene headless in
+// Bullet with the BuoyancyController and writes one CSV row per body every N steps.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <unistd.h>
+
+#include "ToolSupport.hpp"
+#include "Verbs.hpp"
+#include "hydrotex/bullet/Scene.hpp"
+
+namespace hydrotex::tool {
+namespace {
+
+struct SimulateOptions {
+  std::string scenePath;
+  std::string csvPath;
+  long long every = 1;
+  bool json = false;
+};
+
+/// One CSV row per body: the columns of the issue, in that order.
+void writeRows(std::ostream& out, bullet::SceneWorld& sceneWorld) {
+  const auto& bodies = sceneWorld.bodies();
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const btRigidBody* body = bodies[i];
+    const btVector3 p = body->getCenterOfMassPosition();
+    const btQuaternion q = sceneWorld.controller().meshTransform(body)->getRotation();
+    const btVector3 v = body->getLinearVelocity();
+    const btVector3 w = body->getAngularVelocity();
+    const bullet::FloatingBodyReport* report = sceneWorld.controller().report(body);
+    out << sceneWorld.time() << ',' << sceneWorld.scene().bodies[i].name << ',' << p.x() << ',' << p.y() << ','
+        << p.z() << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ',' << v.y()
+        << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
+        << (report ? report->massProperties.mass : 0.0) << ','
+        << (report ? report->hydrostatics.submergedVolume : 0.0) << ',' << 0.0 << '\n';
+  }
+}
+
+int runSimulate(const SimulateOptions& options) {
+  if (options.every < 1) return reportError(Error{"--every: must be at least 1"});
+  Expected<bullet::Scene> scene = bullet::loadScene(options.scenePath);
+  if (!scene) return reportError(scene.error());
+  Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene);
+  if (!created) return reportError(created.error());
+  bullet::SceneWorld& sceneWorld = **created;
+
+  // The CSV goes to a temporary beside the target and is renamed only when the run is complete,
+  // so that a failed or interrupted run never leaves a file that looks finished.
+  std::string temporaryPath;
+  std::ofstream csv;
+  if (!options.csvPath.empty()) {
+    temporaryPath = options.csvPath + ".partial-" + std::to_string(::getpid());
+    csv.open(temporaryPath, std::ios::binary | std::ios::trunc);
+    if (!csv) return reportError(Error{options.csvPath + ": cannot be written"});
+    csv << std::setprecision(9);
+    csv << "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,mass,submerged_volume,liquid_volume\n";
+    writeRows(csv, sceneWorld);
+  }
+  const long long steps = scene->stepCount();
+  const auto start = std::chrono::steady_clock::now();
+  for (long long step = 1; step <= steps; ++step) {
+    sceneWorld.step();
+    if (csv.is_open() && step % options.every == 0) writeRows(csv, sceneWorld);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const btRigidBody* body : sceneWorld.bodies()) {
+    const btVector3 p = body->getCenterOfMassPosition();
+    if (!std::isfinite(double(p.x())) || !std::isfinite(double(p.y())) || !std::isfinite(double(p.z()))) {
+      if (csv.is_open()) {
+        csv.close();
+        std::filesystem::remove(temporaryPath);
+      }
+      return reportError(Error{options.scenePath + ": the simulation diverged (non-finite position)"});
+    }
+  }
+  if (csv.is_open()) {
+    csv.close();
+    std::error_code ec;
+    if (!csv || (std::filesystem::rename(temporaryPath, options.csvPath, ec), ec)) {
+      std::filesystem::remove(temporaryPath, ec);
+      return reportError(Error{options.csvPath + ": cannot be written"});
+    }
+  }
+
+  nlohmann::json result;
+  result["scene"] = options.scenePath;
+  result["steps"] = steps;
+  result["time"] = sceneWorld.time();
+  result["wall_seconds"] = seconds;
+  result["ms_per_step"] = steps > 0 ? 1000.0 * seconds / double(steps) : 0.0;
+  nlohmann::json bodies = nlohmann::json::array();
+  std::ostringstream text;
+  text << "simulated " << sceneWorld.time() << " s in " << steps << " steps (" << std::setprecision(3)
+       << (steps > 0 ? 1000.0 * seconds / double(steps) : 0.0) << " ms/step)\n";
+  for (std::size_t i = 0; i < sceneWorld.bodies().size(); ++i) {
+    const btRigidBody* body = sceneWorld.bodies()[i];
+    const Eigen::Vector3d p(body->getCenterOfMassPosition().x(), body->getCenterOfMassPosition().y(),
+                            body->getCenterOfMassPosition().z());
+    const Eigen::Vector3d v(body->getLinearVelocity().x(), body->getLinearVelocity().y(), body->getLinearVelocity().z());
+    const bullet::FloatingBodyReport* report = sceneWorld.controller().report(body);
+    nlohmann::json entry;
+    entry["name"] = scene->bodies[i].name;
+    entry["center_of_mass"] = toJson(p);
+    entry["linear_velocity"] = toJson(v);
+    entry["mass"] = report->massProperties.mass;
+    entry["submerged_volume"] = report->hydrostatics.submergedVolume;
+    bodies.push_back(entry);
+    text << "  " << scene->bodies[i].name << ": centre of mass " << formatVector(p) << " m, velocity "
+         << formatVector(v) << " m/s, submerged " << report->hydrostatics.submergedVolume << " m^3\n";
+  }
+  result["bodies"] = bodies;
+  if (!options.csvPath.empty()) result["csv"] = options.csvPath;
+  printResult(options.json, result, text.str());
+  return 0;
+}
+
+}  // namespace
+
+void addSimulateVerb(CLI::App& app, VerbAction& action) {
+  auto options = std::make_shared<SimulateOptions>();
+  CLI::App* verb = app.add_subcommand("simulate", "Run a scene file (JSON) headless in Bullet with the buoyancy controller");
+  verb->add_option("scene", options->scenePath, "Scene file (JSON; mesh paths relative to it)")->required();
+  verb->add_option("--csv", options->csvPath, "Write one row per body every N steps to this CSV file");
+  verb->add_option("--every", options->every, "Write a CSV row every N steps (default 1)");
+  verb->add_flag("--json", options->json, "Print the summary as one JSON object");
+  verb->callback([options, &action] { action = [options] { return runSimulate(*options); }; });
+}
+
+}  // namespace hydrotex::tool
