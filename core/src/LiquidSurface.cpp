@@ -28,6 +28,10 @@ double LiquidSurface::pressure(const Eigen::Vector3d& worldPoint, double time, d
   return depth > 0.0 ? densityAt(worldPoint) * gravity * depth : 0.0;
 }
 
+std::pair<double, double> LiquidSurface::heightRange(double /*time*/) const {
+  return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+}
+
 double LiquidSurface::densityAt(const Eigen::Vector3d& /*worldPoint*/) const { return density(); }
 
 // ---- FlatSurface ------------------------------------------------------------------------------
@@ -58,32 +62,48 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
   }
 }
 
-Eigen::Vector3d GerstnerWaves::displacement(double x0, double z0, double time) const {
-  Eigen::Vector3d d = Eigen::Vector3d::Zero();
-  for (const Component& c : components_) {
-    const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
-    const double horizontal = -c.steepness * c.amplitude * std::sin(theta);
-    d.x() += horizontal * c.dirX;
-    d.z() += horizontal * c.dirZ;
-    d.y() += c.amplitude * std::cos(theta);
+double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
+  // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
+  // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
+  // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
+  // contracts while sum Q k A < 1. The height returned is that of the last evaluated rest point,
+  // within one (sub-tolerance) step of the solution.
+  constexpr int kMaxIterations = 24;
+  constexpr double kMinDeterminant = 0.1;
+  double x0 = x, z0 = z, height = 0.0;
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
+    height = 0.0;
+    for (const Component& c : components_) {
+      const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
+      const double sine = std::sin(theta), cosine = std::cos(theta);
+      const double horizontal = c.steepness * c.amplitude;
+      hx -= horizontal * sine * c.dirX;
+      hz -= horizontal * sine * c.dirZ;
+      height += c.amplitude * cosine;
+      const double slope = horizontal * c.waveNumber * cosine;
+      jxx -= slope * c.dirX * c.dirX;
+      jxz -= slope * c.dirX * c.dirZ;
+      jzz -= slope * c.dirZ * c.dirZ;
+    }
+    const double rx = x0 + hx - x, rz = z0 + hz - z;
+    const double determinant = jxx * jzz - jxz * jxz;
+    double stepX = rx, stepZ = rz;
+    if (determinant > kMinDeterminant) {
+      stepX = (jzz * rx - jxz * rz) / determinant;
+      stepZ = (jxx * rz - jxz * rx) / determinant;
+    }
+    if (std::abs(stepX) + std::abs(stepZ) < kHorizontalTolerance) break;
+    x0 -= stepX;
+    z0 -= stepZ;
   }
-  return d;
+  return meanLevel_ + height;
 }
 
-double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
-  // The surface point above (x, z) comes from the rest point x0 with x0 + dx(x0) = x; the
-  // fixed-point iteration x0 <- x - dx(x0) contracts while Q k A < 1 (no looping crests).
-  double x0 = x, z0 = z;
-  Eigen::Vector3d d = displacement(x0, z0, time);
-  for (int iteration = 0; iteration < 16; ++iteration) {
-    const double nextX = x - d.x(), nextZ = z - d.z();
-    const bool converged = std::abs(nextX - x0) + std::abs(nextZ - z0) < 1e-10;
-    x0 = nextX;
-    z0 = nextZ;
-    d = displacement(x0, z0, time);
-    if (converged) break;
-  }
-  return meanLevel_ + d.y();
+std::pair<double, double> GerstnerWaves::heightRange(double /*time*/) const {
+  double amplitudes = 0.0;
+  for (const Component& c : components_) amplitudes += std::abs(c.amplitude);
+  return {meanLevel_ - amplitudes, meanLevel_ + amplitudes};
 }
 
 Eigen::Vector3d GerstnerWaves::velocity(const Eigen::Vector3d& worldPoint, double time) const {
@@ -149,6 +169,12 @@ double HeightGrid::surfaceHeight(double x, double z, double /*time*/) const {
   const GridCell c = locate(x, z, countX_, countZ_, spacing_, originX_, originZ_);
   return (1 - c.fz) * ((1 - c.fx) * heights_[c.i00] + c.fx * heights_[c.i10]) +
          c.fz * ((1 - c.fx) * heights_[c.i01] + c.fx * heights_[c.i11]);
+}
+
+std::pair<double, double> HeightGrid::heightRange(double /*time*/) const {
+  if (heights_.empty()) return LiquidSurface::heightRange(0.0);
+  const auto [lowest, highest] = std::minmax_element(heights_.begin(), heights_.end());
+  return {*lowest, *highest};
 }
 
 Eigen::Vector3d HeightGrid::velocity(const Eigen::Vector3d& worldPoint, double time) const {

@@ -76,6 +76,22 @@ inline void verticalRange(const Eigen::Vector3d& center, const Eigen::Vector3d& 
   high = c + h;
 }
 
+/// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
+/// o), with the texel taken as a patch under a locally level surface; pressure from the depth.
+inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const PosedTexel& w, double a, double b,
+                         double depth, double localHeight, double rhoG) {
+  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
+  sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
+  const double p = rhoG * f.depth;
+  const double fx = -p * w.ax, fy = -p * w.ay, fz = -p * w.az;
+  sums.pressureForce[0] += fx;
+  sums.pressureForce[1] += fy;
+  sums.pressureForce[2] += fz;
+  sums.pressureTorque[0] += w.y * fz - w.z * fy;
+  sums.pressureTorque[1] += w.z * fx - w.x * fz;
+  sums.pressureTorque[2] += w.x * fy - w.y * fx;
+}
+
 /// Calibration of the volume sums: the enclosed volume (1/3) Sum p . A is exact from the texels
 /// (SurfaceTextures::position is shifted along the area vector for that), whereas the y-field sum
 /// Sum y' A'_y, which the waterline needs, takes each texel's centre as its quadrature point and is
@@ -241,23 +257,25 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
   if (!std::isfinite(origin.y())) return Error{"texture hydrostatics: the liquid surface height is not finite"};
   const Eigen::Vector3d offset = t - origin;
   const double rhoG = surface.density() * q.gravity;
-  for (const Texel& texel : texels_) {
-    const PosedTexel w = pose(texel, r, offset);
-    const double localHeight = surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time) - origin.y();
-    double a, b;
-    verticalEdges(texel, r, a, b);
-    const double depth = localHeight - w.y;
-    if (!(depth > -0.5 * (std::abs(a) + std::abs(b)))) continue;  // dry (or a NaN height)
-    const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
-    sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
-    const double p = rhoG * f.depth;
-    const double fx = -p * w.ax, fy = -p * w.ay, fz = -p * w.az;
-    sums.pressureForce[0] += fx;
-    sums.pressureForce[1] += fy;
-    sums.pressureForce[2] += fz;
-    sums.pressureTorque[0] += w.y * fz - w.z * fy;
-    sums.pressureTorque[1] += w.z * fx - w.x * fz;
-    sums.pressureTorque[2] += w.x * fy - w.y * fx;
+  // Tiles and texels wholly above the surface's highest point are dry without asking the
+  // surface, which costs far more than the texel (Gerstner: a Newton search per call).
+  const double highest = surface.heightRange(q.time).second - origin.y();
+  for (const Tile& tile : tiles_) {
+    double low, high;
+    verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
+    if (low >= highest) continue;
+    for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+      const Texel& texel = texels_[i];
+      double a, b;
+      verticalEdges(texel, r, a, b);
+      const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const PosedTexel w = pose(texel, r, offset);
+      if (w.y - halfSpan >= highest) continue;
+      const double localHeight = surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time) - origin.y();
+      const double depth = localHeight - w.y;
+      if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
+      addWaveTexel(sums, texel, w, a, b, depth, localHeight, rhoG);
+    }
   }
   return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, true);
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
@@ -45,6 +46,10 @@ class LiquidSurface {
   /// False for a uniform medium (a gas): every point is submerged.
   virtual bool hasFreeSurface() const { return true; }
 
+  /// Bounds {lowest, highest} (m) of surfaceHeight() over every (x, z) at `time` (s). The texture
+  /// path skips the texels above the highest without querying the surface. Default: unbounded.
+  virtual std::pair<double, double> heightRange(double time) const;
+
   /// One-line reason when the surface's parameters are unusable (non-positive density, NaN, ...).
   virtual Status validate() const = 0;
 };
@@ -63,6 +68,8 @@ class FlatSurface final : public LiquidSurface {
   std::optional<double> flatHeight() const override { return height_; }
   /// Error when the density is not positive and finite or the height is not finite.
   Status validate() const override;
+  /// {height, height} (m).
+  std::pair<double, double> heightRange(double /*time*/) const override { return {height_, height_}; }
 
   /// The plane's height (m).
   double height() const { return height_; }
@@ -84,8 +91,10 @@ struct GerstnerWave {
 };
 
 /// A sum of Gerstner waves on deep water over a mean level, with the deep-water dispersion
-/// relation omega^2 = g k. surfaceHeight() finds the surface point above (x, z) by fixed-point
-/// iteration on the horizontal displacement (to 1e-10 m, at most 16 steps; exact for steepness 0).
+/// relation omega^2 = g k. surfaceHeight() finds the rest point whose displaced position lies
+/// above (x, z) by Newton iteration on the horizontal displacement (fixed-point steps where the
+/// Jacobian is nearly singular), stopping when a step is under kHorizontalTolerance; the height
+/// error is then at most sum(k A) * kHorizontalTolerance (exact for steepness 0).
 class GerstnerWaves final : public LiquidSurface {
  public:
   /// Waves over `meanLevel` (m) in liquid of `density` (kg/m^3); `gravity` (m/s^2) sets the
@@ -93,8 +102,13 @@ class GerstnerWaves final : public LiquidSurface {
   GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel = 0.0, double density = 1000.0,
                 double gravity = 9.81);
 
+  /// Horizontal tolerance (m) of the search for the rest point in surfaceHeight().
+  static constexpr double kHorizontalTolerance = 1e-9;
+
   /// Surface height (m) above (x, z) at `time` (s).
   double surfaceHeight(double x, double z, double time) const override;
+  /// {mean - sum A, mean + sum A} (m).
+  std::pair<double, double> heightRange(double time) const override;
   /// Orbital velocity of the liquid particle at the surface above the point, decaying as
   /// exp(k (y - surface)) with depth (linear wave theory); zero above the surface.
   Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
@@ -113,8 +127,6 @@ class GerstnerWaves final : public LiquidSurface {
   struct Component {
     double amplitude, waveNumber, omega, phase, steepness, dirX, dirZ;
   };
-  /// Displacement (dx, dy, dz) of the surface point whose rest position is (x0, z0).
-  Eigen::Vector3d displacement(double x0, double z0, double time) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
@@ -136,6 +148,8 @@ class HeightGrid final : public LiquidSurface {
 
   /// Bilinear height (m); `time` is ignored (the owner updates the samples each step).
   double surfaceHeight(double x, double z, double time) const override;
+  /// Lowest and highest sample (m); O(samples) per call.
+  std::pair<double, double> heightRange(double time) const override;
   /// Bilinear surface velocity (m/s), the same at every depth below the surface; zero above.
   Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
   /// Nominal density (kg/m^3).
