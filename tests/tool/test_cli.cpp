@@ -12,6 +12,7 @@
 #include <string>
 
 #include "TestPaths.hpp"
+#include "hydrotex/ImageMap.hpp"
 
 namespace {
 
@@ -96,6 +97,23 @@ TEST_CASE("mass: exact and texture agree with the closed form of a unit cube", "
   // Centre and inertia converge with the texel size (1/128 of a face): a few 1e-3 at 128^2.
   CHECK(std::abs(t["center_of_mass"][1].get<double>()) < 5e-3);
   CHECK(t["inertia"][1][1].get<double>() == Approx(1000.0 / 6.0).epsilon(1e-2));
+}
+
+TEST_CASE("mass with a density map", "[tool]") {
+  // A white map with --density-range 0,300 gives 300 kg/m^3 everywhere: 300 kg for the unit cube,
+  // to float storage of the texel cones (1e-5); a black map with range 200,900 gives 200 kg.
+  const std::string white = hydrotex::test::outputPath("white.png"), black = hydrotex::test::outputPath("black.png");
+  REQUIRE(hydrotex::writePng(white, 8, 8, 1, std::vector<std::uint8_t>(64, 255)).ok());
+  REQUIRE(hydrotex::writePng(black, 8, 8, 1, std::vector<std::uint8_t>(64, 0)).ok());
+  const ToolRun w = runTool("mass " + kBox + " --resolution 64 --density-map " + white + " --density-range 0,300 --json");
+  REQUIRE(w.exitCode == 0);
+  CHECK(nlohmann::json::parse(w.out)["mass"].get<double>() == Approx(300.0).epsilon(1e-5));
+  const ToolRun b = runTool("mass " + kBox + " --resolution 64 --density-map " + black + " --density-range 200,900 --json");
+  REQUIRE(b.exitCode == 0);
+  CHECK(nlohmann::json::parse(b.out)["mass"].get<double>() == Approx(200.0).epsilon(1e-5));
+  requireCleanFailure(runTool("mass " + kBox + " --density-map " + white), "density-range");
+  requireCleanFailure(runTool("mass " + kBox + " --method exact --density-map " + white + " --density-range 1,2"),
+                      "density-map");
 }
 
 TEST_CASE("hydrostatics of the unit box half under water", "[tool]") {
