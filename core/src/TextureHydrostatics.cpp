@@ -129,24 +129,34 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   if (bake.width <= 0 || bake.height <= 0 || textures.width != bake.width || textures.height != bake.height)
     return Error{"texture hydrostatics: bake and textures differ in resolution"};
   if (settings.tileSize < 0) return Error{"texture hydrostatics: tile size " + std::to_string(settings.tileSize) + " is negative"};
+  if (settings.groupSize < 0) return Error{"texture hydrostatics: group size " + std::to_string(settings.groupSize) + " is negative"};
 
   TextureHydrostatics out;
-  // About sqrt(width)/2 texels per tile balances the O(tiles) loop against the O(waterline band)
-  // texel work (bench_hydrostatics).
-  out.tileSize_ = settings.tileSize > 0 ? settings.tileSize
-                                        : std::max(4, int(std::lround(0.5 * std::sqrt(double(bake.width)))));
+  // Tiles of 4 texels and groups of about sqrt(width) texels: the group loop grows as
+  // width^2 / group^2 and the texel work along the waterline as the tile size; the sweep in
+  // bench_hydrostatics puts the best at tile 4, group 16 at 256^2 and group 32..64 at 1024^2.
+  out.tileSize_ = settings.tileSize > 0 ? settings.tileSize : 4;
   const int tileSize = out.tileSize_;
-  const int tilesX = (bake.width + tileSize - 1) / tileSize;
-  const int tilesY = (bake.height + tileSize - 1) / tileSize;
+  out.groupSize_ = settings.groupSize > 0
+                       ? settings.groupSize
+                       : std::max(1, int(std::lround(std::sqrt(double(bake.width)) / tileSize)));
+  const int groupSize = out.groupSize_;
+  const int groupTexels = tileSize * groupSize;
+  const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
+  const int groupsY = (bake.height + groupTexels - 1) / groupTexels;
+  const std::size_t tilesPerGroup = std::size_t(groupSize) * std::size_t(groupSize);
 
-  // Counting sort of the texels by our own tile (the bake's tile size may differ).
+  // Counting sort of the texels by (group, tile within the group), so that both are contiguous
+  // (the bake's own tile size may differ).
   std::vector<std::uint32_t> tileOf(count);
-  std::vector<std::uint32_t> tileCount(std::size_t(tilesX) * std::size_t(tilesY) + 1, 0);
+  std::vector<std::uint32_t> tileCount(std::size_t(groupsX) * std::size_t(groupsY) * tilesPerGroup + 1, 0);
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint32_t index = bake.texelIndex[i];
     const int row = int(index / std::uint32_t(bake.width)), column = int(index % std::uint32_t(bake.width));
     if (row >= bake.height) return Error{"texture hydrostatics: bake texel " + std::to_string(i) + " lies outside the image"};
-    tileOf[i] = std::uint32_t((row / tileSize) * tilesX + column / tileSize);
+    const int tileRow = row / tileSize, tileColumn = column / tileSize;
+    const std::size_t group = std::size_t((tileRow / groupSize) * groupsX + tileColumn / groupSize);
+    tileOf[i] = std::uint32_t(group * tilesPerGroup + std::size_t((tileRow % groupSize) * groupSize + tileColumn % groupSize));
     ++tileCount[tileOf[i] + 1];
   }
   for (std::size_t t = 1; t < tileCount.size(); ++t) tileCount[t] += tileCount[t - 1];
@@ -165,6 +175,8 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
 
   Eigen::Vector3d bodyLow = Eigen::Vector3d::Constant(INFINITY), bodyHigh = Eigen::Vector3d::Constant(-INFINITY);
   double tripleVolume = 0.0;
+  Eigen::Vector3d groupLow = Eigen::Vector3d::Zero(), groupHigh = Eigen::Vector3d::Zero();
+  std::size_t lastGroup = 0;
   for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
     if (tileCount[t] == tileCount[t + 1]) continue;
     Tile tile;
@@ -188,6 +200,23 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     out.total_.add(tile.moments);
     bodyLow = bodyLow.cwiseMin(low);
     bodyHigh = bodyHigh.cwiseMax(high);
+    // A new group starts at the first tile of another group index.
+    const std::size_t group = t / tilesPerGroup;
+    if (out.groups_.empty() || group != lastGroup) {
+      Tile first;
+      first.begin = first.end = std::uint32_t(out.tiles_.size());
+      out.groups_.push_back(first);
+      groupLow = low;
+      groupHigh = high;
+      lastGroup = group;
+    }
+    Tile& current = out.groups_.back();
+    current.end = std::uint32_t(out.tiles_.size() + 1);
+    current.moments.add(tile.moments);
+    groupLow = groupLow.cwiseMin(low);
+    groupHigh = groupHigh.cwiseMax(high);
+    current.boundsCenter = 0.5 * (groupLow + groupHigh);
+    current.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
     out.tiles_.push_back(tile);
   }
   if (out.tiles_.empty()) return Error{"texture hydrostatics: the bake covers no texel"};
@@ -235,14 +264,23 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
       if (high <= 0.0) {
         under = total_;
       } else {
-        for (const Tile& tile : tiles_) {
-          verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
+        for (const Tile& group : groups_) {
+          verticalRange(group.boundsCenter, group.boundsHalfExtent, r, offset.y(), low, high);
           if (low >= 0.0) continue;
           if (high <= 0.0) {
-            under.add(tile.moments);
+            under.add(group.moments);
             continue;
           }
-          for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], r, offset);
+          for (std::uint32_t g = group.begin; g < group.end; ++g) {
+            const Tile& tile = tiles_[g];
+            verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
+            if (low >= 0.0) continue;
+            if (high <= 0.0) {
+              under.add(tile.moments);
+              continue;
+            }
+            for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], r, offset);
+          }
         }
       }
       sums.addSubmergedMoments(under, r, offset);

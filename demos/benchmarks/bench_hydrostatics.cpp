@@ -50,9 +50,9 @@ struct Row {
 int main(int argc, char** argv) {
   const std::string csvPath = argc > 1 ? argv[1] : "bench_hydrostatics.csv";
   std::vector<Row> rows;
-  std::printf("%-28s %-22s %12s %14s %16s\n", "benchmark", "configuration", "size", "us/query", "ns/element");
+  std::printf("%-28s %-28s %12s %14s %16s\n", "benchmark", "configuration", "size", "us/query", "ns/element");
   auto report = [&](const Row& row) {
-    std::printf("%-28s %-22s %12.0f %14.2f %16.3f\n", row.benchmark.c_str(), row.configuration.c_str(), row.size,
+    std::printf("%-28s %-28s %12.0f %14.2f %16.3f\n", row.benchmark.c_str(), row.configuration.c_str(), row.size,
                 row.microseconds, row.perElementNanoseconds);
     std::fflush(stdout);
     rows.push_back(row);
@@ -82,19 +82,27 @@ int main(int argc, char** argv) {
       return 1;
     }
     const double texels = double(body->texelCount());
-    const std::string config = std::to_string(resolution) + "^2 tile " + std::to_string(body->tileSize());
+    const std::string config = std::to_string(resolution) + "^2 tile " + std::to_string(body->tileSize()) +
+                               " group " + std::to_string(body->tileSize() * body->groupSize());
     for (TexelTraversal traversal : {TexelTraversal::Hierarchy, TexelTraversal::BruteForce}) {
       const double seconds = medianSecondsPerCall([&] { sink = sink + body->query(water, query, traversal)->submergedVolume; });
       report({traversal == TexelTraversal::Hierarchy ? "texture flat hierarchy" : "texture flat brute force", config,
               double(resolution) * resolution, seconds * 1e6, seconds * 1e9 / texels});
     }
     if (resolution == 256 || resolution == 1024) {
-      // Tile-size sweep: the tile loop grows as 1/tile^2, the waterline band as tile.
-      for (int tileSize : {4, 8, 16, 32}) {
-        const auto swept = TextureHydrostatics::build(*bake, textures, TextureHydrostaticsSettings{tileSize});
-        const double seconds = medianSecondsPerCall([&] { sink = sink + swept->query(water, query)->submergedVolume; });
-        report({"texture flat tile sweep", std::to_string(resolution) + "^2 tile " + std::to_string(tileSize),
-                double(resolution) * resolution, seconds * 1e6, seconds * 1e9 / texels});
+      // Sweep of (tile, group) sizes in texels per side: the group loop grows as 1/group^2, the
+      // waterline band as the tile size. Group 0: one level (each tile its own group).
+      for (int tileSize : {2, 4, 8, 16}) {
+        for (int groupTexels : {0, 16, 32, 64}) {
+          if (groupTexels != 0 && groupTexels <= tileSize) continue;
+          const TextureHydrostaticsSettings sweep{tileSize, groupTexels == 0 ? 1 : groupTexels / tileSize};
+          const auto swept = TextureHydrostatics::build(*bake, textures, sweep);
+          const double seconds = medianSecondsPerCall([&] { sink = sink + swept->query(water, query)->submergedVolume; });
+          report({"texture flat tile sweep",
+                  std::to_string(resolution) + "^2 tile " + std::to_string(tileSize) + " group " +
+                      std::to_string(tileSize * swept->groupSize()),
+                  double(resolution) * resolution, seconds * 1e6, seconds * 1e9 / texels});
+        }
       }
     }
     if (resolution <= 512) {

@@ -22,18 +22,22 @@ enum class TexelTraversal {
   BruteForce,  ///< every texel, every time (reference and benchmark baseline)
 };
 
-/// Settings of the per-body texture hydrostatics.
+/// Settings of the per-body texture hydrostatics. The hierarchy has two levels: groups of
+/// groupSize x groupSize tiles of tileSize x tileSize texels. Groups keep the loop over wholly
+/// wet or dry regions short; small tiles keep the texel work along the waterline short.
 struct TextureHydrostaticsSettings {
-  /// Texels per tile side for the hierarchy; 0 picks one from the resolution (about
-  /// sqrt(width) / 2, at least 4), which keeps both the tile loop and the waterline band short.
+  /// Texels per tile side; 0 picks 4 (bench_hydrostatics).
   int tileSize = 0;
+  /// Tiles per group side; 0 picks one from the resolution so that a group spans about
+  /// sqrt(width) texels (at least one tile).
+  int groupSize = 0;
 };
 
 /// Per-body texture hydrostatics: texel data packed for the query and per-tile moments.
 class TextureHydrostatics {
  public:
-  /// Packs the covered texels of `textures` (laid out by `bake`) into tiles and precomputes each
-  /// tile's moments (sum A, sum p A^T, sum p p^T A_k, area) and body-frame bounds in double.
+  /// Packs the covered texels of `textures` (laid out by `bake`) into tiles and groups of tiles
+  /// and precomputes each one's moments (sum A, sum p A^T, sum p p^T A_k, area) and body-frame bounds in double.
   /// Error when the two do not match in size or hold non-finite values.
   static Expected<TextureHydrostatics> build(const SurfaceBake& bake, const SurfaceTextures& textures,
                                              const TextureHydrostaticsSettings& settings = {});
@@ -52,6 +56,8 @@ class TextureHydrostatics {
   std::size_t tileCount() const { return tiles_.size(); }
   /// Texels per tile side in use.
   int tileSize() const { return tileSize_; }
+  /// Tiles per group side in use.
+  int groupSize() const { return groupSize_; }
   /// Number of covered texels.
   std::size_t texelCount() const { return texels_.size(); }
 
@@ -75,9 +81,10 @@ class TextureHydrostatics {
     void add(const Moments& other);
   };
 
-  /// A tile: a contiguous range of texels, its moments and body-frame bounds of its texel patches.
+  /// A tile (or a group of tiles): a contiguous range of texels (or tiles), its moments and the
+  /// body-frame bounds of its texel patches.
   struct Tile {
-    std::uint32_t begin = 0, end = 0;     ///< texel range
+    std::uint32_t begin = 0, end = 0;     ///< texel range (tile) or tile range (group)
     Moments moments;                      ///< of its texels
     Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();       ///< m, body frame
     Eigen::Vector3d boundsHalfExtent = Eigen::Vector3d::Zero();   ///< m, body frame
@@ -86,11 +93,13 @@ class TextureHydrostatics {
  private:
   std::vector<Texel> texels_;
   std::vector<Tile> tiles_;
+  std::vector<Tile> groups_;
   Moments total_;
   Eigen::Vector3d boundsCenter_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d boundsHalfExtent_ = Eigen::Vector3d::Zero();
   double enclosedVolume_ = 0.0;
   int tileSize_ = 0;
+  int groupSize_ = 0;
 };
 
 }  // namespace hydrotex
