@@ -1,0 +1,29 @@
+/// @file FlatWettedSums.cpp
+/// Finishing a flat-surface hydrostatics result from sums accumulated outside core (a GPU): the
+/// same assembly as the texture path (HydrostaticSums.cpp, finishHydrostatics), so that every
+/// backend shares one formula for the result.
+
+#include "HydrostaticSums.hpp"
+#include "hydrotex/ComputeBackend.hpp"
+
+namespace hydrotex {
+
+HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& in, double surfaceHeight, double density,
+                                          const HydrostaticsQuery& query) {
+  detail::WettedSums sums;
+  sums.sumDA[1] = in.sumDAy;
+  sums.sumDXAy = in.sumDXAy;
+  sums.sumDZAy = in.sumDZAy;
+  sums.sumYB = in.sumYB;
+  sums.sumAy = in.sumAy;
+  sums.sumXAy = in.sumXAy;
+  sums.sumZAy = in.sumZAy;
+  sums.sumXXAy = in.sumXXAy;
+  sums.sumXZAy = in.sumXZAy;
+  sums.sumZZAy = in.sumZZAy;
+  sums.wettedArea = in.wettedArea;
+  const Eigen::Vector3d origin(query.pose.translation.x(), surfaceHeight, query.pose.translation.z());
+  return detail::finishHydrostatics(sums, origin, density, query, detail::ForceModel::Archimedes, true);
+}
+
+}  // namespace hydrotex

@@ -1,0 +1,42 @@
+#pragma once
+/// @file GlBackend.hpp
+/// The OpenGL 4.3 compute backend (DESIGN.md "Backends"): the CPU's exact bake uploaded once per
+/// body, the per-step passes on the GPU. Flat-surface hydrostatics and texture mass properties,
+/// many bodies per dispatch, float per-texel work and per-workgroup float partials, then a final
+/// pass in double (on the GPU when GL_ARB_gpu_shader_fp64 is there, else on the CPU over the
+/// partials), results read back once per call.
+
+#include <memory>
+
+#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/gpu/EglContext.hpp"
+
+namespace hydrotex::gpu {
+
+/// Where the double-precision final sum over the float partials runs.
+enum class FinalSum {
+  Automatic,  ///< on the GPU when the context has GL_ARB_gpu_shader_fp64, else on the CPU
+  Gpu,        ///< on the GPU (error at creation without GL_ARB_gpu_shader_fp64)
+  Cpu,        ///< read the partials back and sum them on the CPU
+};
+
+/// Settings of the GL backend.
+struct GlBackendSettings {
+  FinalSum finalSum = FinalSum::Automatic;  ///< see FinalSum
+  /// Bytes per storage buffer segment; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE capped at 256 MiB.
+  /// (Tests set it small to exercise bodies split across segments.)
+  std::size_t segmentBytes = 0;
+};
+
+/// The GL backend on `context` (which it keeps and makes current on every call). Errors: shader
+/// compilation or linking (the message holds the driver's log), FinalSum::Gpu without fp64.
+/// Flat surfaces only: hydrostatics() on waves, grids or media answers an Error naming the CPU
+/// backend as the one to use.
+Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglContext> context,
+                                                        const GlBackendSettings& settings = {});
+
+/// Opens a headless context (EglContext::create) and makes the GL backend on it. Error when no
+/// context can be opened: callers then use makeCpuBackend().
+Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(const GlBackendSettings& settings = {});
+
+}  // namespace hydrotex::gpu

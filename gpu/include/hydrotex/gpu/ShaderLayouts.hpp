@@ -1,0 +1,66 @@
+#pragma once
+/// @file ShaderLayouts.hpp
+/// C++ mirrors of the std430 storage structs of gpu/shaders/layouts.glsl and layouts_fp64.glsl,
+/// member for member, so that buffers are filled and read with plain memcpy. Their offsets are
+/// checked against the shader text by tests/gpu/test_shader_layouts.cpp (no context needed).
+
+#include <cstdint>
+
+namespace hydrotex::gpu::layout {
+
+/// One covered texel for the hydrostatics pass (body frame), 52 bytes.
+struct HydroTexel {
+  float px, py, pz;   ///< PT (m)
+  float ax, ay, az;   ///< VAT (m^2)
+  float area;         ///< m^2
+  float ux, uy, uz;   ///< texel u edge on the surface (m)
+  float vx, vy, vz;   ///< texel v edge on the surface (m)
+};
+
+/// One covered texel for the mass pass: cone apex-to-base vector (m) and cone volume (m^3).
+struct MassTexel {
+  float offsetAndVolume[4];  ///< p - c (m) then (p - c) . A / 3 (m^3)
+};
+
+/// A run of consecutive texels of one body, reduced by one workgroup.
+struct Chunk {
+  std::uint32_t body;                 ///< body index
+  std::uint32_t begin;                ///< first texel, in its storage segment
+  std::uint32_t count;                ///< texels
+  float centerX, centerY, centerZ;    ///< bounds centre (m, body frame)
+  float halfX, halfY, halfZ;          ///< bounds half extent (m, body frame), conservative
+};
+
+/// A body's pose for one step: rotation rows, w = offset of the body origin from (t_x, h, t_z).
+struct BodyPose {
+  float row0[4];  ///< R row 0, offset x (m)
+  float row1[4];  ///< R row 1, offset y (m)
+  float row2[4];  ///< R row 2, offset z (m)
+};
+
+/// A body's chunk range and, for the mass pass, its model this call.
+struct BodyRange {
+  std::uint32_t chunkBegin;  ///< first chunk (global index)
+  std::uint32_t chunkEnd;    ///< one past the last chunk
+  std::uint32_t mode;        ///< 0 uniform density, 1 density map, 2 not asked this call
+  float uniformDensity;      ///< kg/m^3 (mode 0)
+};
+
+/// Per-workgroup float partial sums.
+struct Partial {
+  float value[12];  ///< see layouts.glsl
+};
+
+/// Geometry-only sums of one mass block: 3/5 v C (m^5) and sum |v| (m^3).
+struct BlockGeometry {
+  double covariance[6];  ///< xx yy zz xy xz yz
+  double absVolume;      ///< m^3
+  double unused;         ///< padding to 64 bytes
+};
+
+/// Per-body double sums of the final pass.
+struct BodySums {
+  double value[12];  ///< see layouts_fp64.glsl
+};
+
+}  // namespace hydrotex::gpu::layout

@@ -1,0 +1,115 @@
+// Flat-surface hydrostatics, one workgroup per chunk of up to 1024 texels of one body (4 per
+// invocation): each texel is the planar patch p + s eU + t eV, weighted by the exact submerged
+// fractions of that patch (core/src/HydrostaticSums.hpp, waterlineFractions; the same sums as
+// TextureHydrostatics' flat path), reduced in shared memory to one float Partial per chunk.
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 0) readonly buffer Texels { HydroTexel texels[]; };
+layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
+layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
+layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
+
+uniform uint chunkBase;   // global index of this dispatch's first chunk
+uniform uint chunkCount;  // chunks in this dispatch
+
+const uint kGroup = 256u;
+const uint kTexelsPerInvocation = 4u;
+const int kSums = 11;
+
+shared float reduction[kSums][kGroup];
+
+// E[1(d > X)], E[(d - X)+], E[(d - X)+^2] - frac (a^2 + b^2) / 12 for X = a U1 + b U2, U uniform
+// on [-1/2, 1/2]: second differences of the antiderivatives (HydrostaticSums.hpp). In float the
+// 2-D form loses eps a/b of its value to cancellation, so it hands over to the 1-D limit below
+// b = 1e-3 a (whose own error is O((b/a)^2), 1e-6) instead of the CPU's 1e-6 a.
+vec3 waterlineFractions(float d, float a, float b) {
+  a = abs(a);
+  b = abs(b);
+  if (a < b) { float swapped = a; a = b; b = swapped; }
+  float halfSpan = 0.5 * (a + b);
+  float variance = (a * a + b * b) / 12.0;
+  if (d >= halfSpan) return vec3(1.0, d, d * d);
+  if (d <= -halfSpan) return vec3(0.0);
+  float frac, mean, meanSq;
+  if (b > 1e-3 * a) {
+    vec4 z = max(vec4(d + halfSpan, d + 0.5 * (a - b), d - 0.5 * (a - b), d - halfSpan), vec4(0.0));
+    vec4 sign = vec4(1.0, -1.0, -1.0, 1.0);
+    vec4 z2 = z * z;
+    float inv = 1.0 / (a * b);
+    frac = dot(sign, z2) * 0.5 * inv;
+    mean = dot(sign, z2 * z) / 6.0 * inv;
+    meanSq = dot(sign, z2 * z2) / 12.0 * inv;
+  } else if (a > 0.0) {
+    float hi = max(d + 0.5 * a, 0.0), lo = max(d - 0.5 * a, 0.0);
+    float inv = 1.0 / a;
+    frac = (hi - lo) * inv;
+    mean = 0.5 * (hi * hi - lo * lo) * inv;
+    meanSq = (hi * hi * hi - lo * lo * lo) / 3.0 * inv;
+  } else {
+    frac = d > 0.0 ? 1.0 : 0.0;
+    mean = max(d, 0.0);
+    meanSq = mean * mean;
+  }
+  return vec3(frac, mean, meanSq - frac * variance);
+}
+
+void main() {
+  uint local = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (local >= chunkCount) return;  // the same for the whole workgroup
+  uint chunkIndex = chunkBase + local;
+  Chunk chunk = chunks[chunkIndex];
+  BodyPose pose = poses[chunk.body];
+  vec3 row1 = pose.row1.xyz;
+
+  // A chunk whose bounds lie wholly above the surface (y' >= 0) adds nothing.
+  float centerY = dot(row1, vec3(chunk.centerX, chunk.centerY, chunk.centerZ)) + pose.row1.w;
+  float reachY = dot(abs(row1), vec3(chunk.halfX, chunk.halfY, chunk.halfZ));
+  if (centerY - reachY >= 0.0) {
+    if (gl_LocalInvocationID.x == 0u)
+      for (int k = 0; k < 12; ++k) partials[chunkIndex].value[k] = 0.0;
+    return;
+  }
+
+  float sums[kSums];
+  for (int k = 0; k < kSums; ++k) sums[k] = 0.0;
+  for (uint n = 0u; n < kTexelsPerInvocation; ++n) {
+    uint i = gl_LocalInvocationID.x + n * kGroup;
+    if (i >= chunk.count) break;
+    HydroTexel t = texels[chunk.begin + i];
+    vec3 p = vec3(t.px, t.py, t.pz);
+    float a = dot(row1, vec3(t.ux, t.uy, t.uz));
+    float b = dot(row1, vec3(t.vx, t.vy, t.vz));
+    float depth = -(dot(row1, p) + pose.row1.w);
+    if (depth <= -0.5 * (abs(a) + abs(b))) continue;  // dry
+    float x = dot(pose.row0.xyz, p) + pose.row0.w;
+    float z = dot(pose.row2.xyz, p) + pose.row2.w;
+    float ay = dot(row1, vec3(t.ax, t.ay, t.az));
+    vec3 f = waterlineFractions(depth, a, b);
+    float da = f.y * ay;
+    float fay = f.x * ay;
+    sums[0] += da;
+    sums[1] += da * x;
+    sums[2] += da * z;
+    sums[3] += 0.5 * f.z * ay;
+    sums[4] += fay;
+    sums[5] += fay * x;
+    sums[6] += fay * z;
+    sums[7] += fay * x * x;
+    sums[8] += fay * x * z;
+    sums[9] += fay * z * z;
+    sums[10] += f.x * t.area;
+  }
+
+  uint lane = gl_LocalInvocationID.x;
+  for (int k = 0; k < kSums; ++k) reduction[k][lane] = sums[k];
+  barrier();
+  for (uint stride = kGroup / 2u; stride > 0u; stride >>= 1u) {
+    if (lane < stride)
+      for (int k = 0; k < kSums; ++k) reduction[k][lane] += reduction[k][lane + stride];
+    barrier();
+  }
+  if (lane == 0u) {
+    for (int k = 0; k < kSums; ++k) partials[chunkIndex].value[k] = reduction[k][0];
+    partials[chunkIndex].value[11] = 0.0;
+  }
+}

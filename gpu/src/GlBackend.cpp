@@ -1,0 +1,537 @@
+/// @file GlBackend.cpp
+/// The GL compute backend. Per body, the CPU's exact bake is uploaded once as packed texels
+/// (HydroTexel for hydrostatics, MassTexel plus per-block geometry sums for mass); a call uploads
+/// the poses (or densities), runs one chunk pass per storage segment for all bodies at once, one
+/// final double pass per body, and reads the per-body sums back once. The sums are those of
+/// core's texture path (HydrostaticSums.hpp, TextureMassProperties.cpp) and are finished by the
+/// same code (finishFlatHydrostatics) so that the backends differ only by float rounding.
+/// Driver quirks handled here are marked "Quirk".
+
+#include "hydrotex/gpu/GlBackend.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "GlObjects.hpp"
+#include "hydrotex/gpu/EmbeddedShaders.hpp"
+#include "hydrotex/gpu/ShaderLayouts.hpp"
+
+namespace hydrotex::gpu {
+
+namespace {
+
+using detail::GlBuffer;
+using detail::GlProgram;
+
+constexpr std::uint32_t kHydroChunkTexels = 1024;  // 256 invocations x 4 texels (hydrostatics_flat.comp)
+constexpr std::uint32_t kMassChunkTexels = 256;    // TextureMassIntegrator's block (mass_moments.comp)
+constexpr GLuint kMaxGroupsX = 65535;              // GL's guaranteed minimum of GL_MAX_COMPUTE_WORK_GROUP_COUNT
+// A body not asked this step is lifted this far (m) above the surface, so that every chunk of it
+// is culled by its bounds: one test per chunk instead of a second dispatch layout.
+constexpr float kLifted = 1.0e30f;
+
+// Append-only storage for one kind of texel, split into buffers ("segments").
+// Quirk (llvmpipe): GL_MAX_SHADER_STORAGE_BLOCK_SIZE is 128 MiB (the spec's minimum), less than
+// 1,000 bodies at 256^2 need; NVIDIA allows 2 GiB. Chunks never straddle segments and each
+// segment gets its own dispatch.
+struct SegmentedStorage {
+  struct Segment {
+    GlBuffer texels;
+    GlBuffer densities;  // mass storage only: one float per texel
+    std::size_t used = 0;
+    std::uint32_t chunkBegin = 0, chunkEnd = 0;  // global chunk range placed here
+  };
+  std::size_t elementBytes = 0;
+  std::size_t capacity = 0;  // elements per segment
+  bool withDensities = false;
+  std::vector<Segment> segments;
+  std::vector<std::uint32_t> chunkSegment;  // per global chunk
+
+  // Places chunk `chunkIndex` of `count` elements; returns its first element in its segment.
+  std::uint32_t place(std::uint32_t chunkIndex, std::uint32_t count) {
+    if (segments.empty() || segments.back().used + count > capacity) {
+      Segment segment;
+      segment.texels = GlBuffer(capacity * elementBytes);
+      if (withDensities) segment.densities = GlBuffer(capacity * sizeof(float));
+      segment.chunkBegin = chunkIndex;
+      segment.chunkEnd = chunkIndex;
+      segments.push_back(std::move(segment));
+    }
+    Segment& segment = segments.back();
+    const auto begin = static_cast<std::uint32_t>(segment.used);
+    segment.used += count;
+    segment.chunkEnd = chunkIndex + 1;
+    chunkSegment.push_back(static_cast<std::uint32_t>(segments.size() - 1));
+    return begin;
+  }
+};
+
+// Texel covariance about its centre (TextureMassProperties.cpp, texelCovariance): a flat
+// parallelogram of edges eu, ev has C = (eu eu^T + ev ev^T) / 12, scaled by the covered fraction.
+Eigen::Matrix3d texelCovariance(const Eigen::Vector3d& edgeU, const Eigen::Vector3d& edgeV, double area) {
+  const double spanned = edgeU.cross(edgeV).norm();
+  const double fraction = spanned > 0.0 ? std::min(1.0, area / spanned) : 0.0;
+  return fraction / 12.0 * (edgeU * edgeU.transpose() + edgeV * edgeV.transpose());
+}
+
+void dispatchGroups(std::uint32_t groups) {
+  const GLuint x = std::min<GLuint>(groups, kMaxGroupsX);
+  glDispatchCompute(x, (groups + x - 1) / x, 1);
+}
+
+class GlBackend final : public ComputeBackend {
+ public:
+  GlBackend(std::unique_ptr<EglContext> context, bool finalOnGpu, std::size_t segmentBytes)
+      : context_(std::move(context)), finalOnGpu_(finalOnGpu) {
+    hydroStorage_.elementBytes = sizeof(layout::HydroTexel);
+    hydroStorage_.capacity = std::max<std::size_t>(segmentBytes / sizeof(layout::HydroTexel), kHydroChunkTexels);
+    massStorage_.elementBytes = sizeof(layout::MassTexel);
+    massStorage_.capacity = std::max<std::size_t>(segmentBytes / sizeof(layout::MassTexel), kMassChunkTexels);
+    massStorage_.withDensities = true;
+  }
+
+  ~GlBackend() override {
+    // GL objects must go while the context is current; the context goes last.
+    if (context_->makeCurrent()) {
+      hydroStorage_.segments.clear();
+      massStorage_.segments.clear();
+      tables_ = Tables{};
+      programs_ = Programs{};
+    }
+  }
+
+  Status compile() {
+    const std::string_view version = "#version 430 core\n";
+    const std::string_view fp64 = "#extension GL_ARB_gpu_shader_fp64 : require\n";
+    const std::string_view layouts = embeddedShader("layouts.glsl");
+    auto build = [&](const char* name, bool needsFp64, GlProgram& out) -> Status {
+      const std::string_view body = embeddedShader(name);
+      if (body.empty() || layouts.empty()) return Error{std::string("gpu backend: shader ") + name + " is not embedded"};
+      std::vector<std::string_view> parts = {version};
+      if (needsFp64) parts.push_back(fp64);
+      parts.push_back(layouts);
+      if (needsFp64) parts.push_back(embeddedShader("layouts_fp64.glsl"));
+      parts.push_back(body);
+      Expected<GlProgram> program = GlProgram::compute(name, parts);
+      if (!program) return Error{"gpu backend: " + program.error().message};
+      out = std::move(program).value();
+      return Ok{};
+    };
+    if (Status s = build("hydrostatics_flat.comp", false, programs_.hydrostatics); !s) return s;
+    if (Status s = build("mass_moments.comp", false, programs_.mass); !s) return s;
+    if (finalOnGpu_)
+      if (Status s = build("reduce_partials.comp", true, programs_.reduce); !s) return s;
+    return Ok{};
+  }
+
+  std::string name() const override { return "gpu"; }
+  std::string renderer() const override { return context_->renderer(); }
+  std::size_t bodyCount() const override { return bodies_.size(); }
+
+  Expected<BackendBodyId> addBody(const SurfaceBake& bake, const SurfaceTextures& textures,
+                                  const Eigen::Vector3d& referencePoint) override {
+    const std::size_t count = bake.coveredCount();
+    if (Status s = checkTextures(textures, count); !s) return s.error();
+    if (count == 0) return Error{"gpu backend: the bake covers no texel"};
+    if (!referencePoint.allFinite()) return Error{"gpu backend: mass reference point is not finite"};
+    if (count > std::numeric_limits<std::uint32_t>::max() / 2) return Error{"gpu backend: body has too many texels"};
+    if (Status s = context_->makeCurrent(); !s) return s.error();
+
+    Body body;
+    body.texelCount = count;
+    body.referencePoint = referencePoint;
+    const auto id = static_cast<std::uint32_t>(bodies_.size());
+    body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
+    for (std::size_t first = 0; first < count; first += kHydroChunkTexels) {
+      layout::Chunk chunk{};
+      chunk.body = id;
+      chunk.count = static_cast<std::uint32_t>(std::min<std::size_t>(kHydroChunkTexels, count - first));
+      chunk.begin = hydroStorage_.place(static_cast<std::uint32_t>(hydroChunks_.size()), chunk.count);
+      hydroChunks_.push_back(chunk);
+    }
+    body.hydroChunkEnd = static_cast<std::uint32_t>(hydroChunks_.size());
+    body.massChunkBegin = static_cast<std::uint32_t>(massChunks_.size());
+    for (std::size_t first = 0; first < count; first += kMassChunkTexels) {
+      layout::Chunk chunk{};
+      chunk.body = id;
+      chunk.count = static_cast<std::uint32_t>(std::min<std::size_t>(kMassChunkTexels, count - first));
+      chunk.begin = massStorage_.place(static_cast<std::uint32_t>(massChunks_.size()), chunk.count);
+      massChunks_.push_back(chunk);
+      blocks_.push_back(layout::BlockGeometry{});
+    }
+    body.massChunkEnd = static_cast<std::uint32_t>(massChunks_.size());
+    bodies_.push_back(body);
+    uploadSurface(bodies_.back(), textures);
+    tablesDirty_ = true;
+    return id;
+  }
+
+  Status updateSurface(BackendBodyId id, const SurfaceTextures& textures) override {
+    if (id >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(id)};
+    if (Status s = checkTextures(textures, bodies_[id].texelCount); !s) return s;
+    if (Status s = context_->makeCurrent(); !s) return s;
+    uploadSurface(bodies_[id], textures);
+    tablesDirty_ = true;
+    return Ok{};
+  }
+
+  Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
+                      std::span<HydrostaticsResult> results) override {
+    if (results.size() < queries.size())
+      return Error{"gpu backend: " + std::to_string(queries.size()) + " queries, room for " +
+                   std::to_string(results.size()) + " results"};
+    const std::optional<double> flat = surface.flatHeight();
+    if (!flat || !surface.hasFreeSurface())
+      return Error{"gpu backend: only flat liquid surfaces run on the GPU; use the cpu backend for waves, grids and media"};
+    ++batch_;
+    for (const BackendHydrostaticsQuery& q : queries) {
+      if (q.body >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(q.body)};
+      if (bodies_[q.body].batch == batch_) return Error{"gpu backend: body " + std::to_string(q.body) + " asked twice in one batch"};
+      bodies_[q.body].batch = batch_;
+      if (Status valid = validateHydrostaticsQuery(surface, q.query); !valid)
+        return Error{"gpu backend: body " + std::to_string(q.body) + ": " + valid.error().message};
+    }
+    if (queries.empty()) return Ok{};
+    if (Status s = context_->makeCurrent(); !s) return s;
+    ensureTables();
+
+    layout::BodyPose lifted{};
+    lifted.row0[0] = lifted.row1[1] = lifted.row2[2] = 1.0f;
+    lifted.row1[3] = kLifted;
+    std::fill(poses_.begin(), poses_.end(), lifted);
+    for (const BackendHydrostaticsQuery& q : queries) {
+      const Eigen::Matrix3d& r = q.query.pose.rotation;
+      // x' = R p + (t - o), o = (t_x, h, t_z): only the vertical offset is not zero.
+      const double offset[3] = {0.0, q.query.pose.translation.y() - *flat, 0.0};
+      float* rows[3] = {poses_[q.body].row0, poses_[q.body].row1, poses_[q.body].row2};
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) rows[i][j] = static_cast<float>(r(i, j));
+        rows[i][3] = static_cast<float>(offset[i]);
+      }
+    }
+    tables_.poses.write(0, poses_.data(), poses_.size() * sizeof(layout::BodyPose));
+
+    glUseProgram(programs_.hydrostatics.id());
+    tables_.hydroChunks.bind(1);
+    tables_.poses.bind(2);
+    tables_.partials.bind(3);
+    runSegments(hydroStorage_, programs_.hydrostatics, false);
+    if (Status s = finalSums(false); !s) return s;
+
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const double* v = sums_[queries[i].body].value;
+      const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10]};
+      results[i] = finishFlatHydrostatics(wetted, *flat, surface.density(), queries[i].query);
+    }
+    return Ok{};
+  }
+
+  Status massProperties(std::span<const BackendBodyId> ids, std::span<const TextureMassModel> models,
+                        std::span<MassProperties> results) override {
+    if (ids.size() != models.size() || results.size() < ids.size())
+      return Error{"gpu backend: " + std::to_string(ids.size()) + " bodies, " + std::to_string(models.size()) +
+                   " models and room for " + std::to_string(results.size()) + " results"};
+    ++batch_;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      if (ids[i] >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(ids[i])};
+      if (bodies_[ids[i]].batch == batch_) return Error{"gpu backend: body " + std::to_string(ids[i]) + " asked twice in one batch"};
+      bodies_[ids[i]].batch = batch_;
+      const TextureMassModel& model = models[i];
+      if (!model.texelDensity.empty() && model.texelDensity.size() != bodies_[ids[i]].texelCount)
+        return Error{"density map has " + std::to_string(model.texelDensity.size()) + " texels, the bake has " +
+                     std::to_string(bodies_[ids[i]].texelCount)};
+      if (!std::isfinite(model.solidDensity) || model.solidDensity < 0.0)
+        return Error{"solid density " + std::to_string(model.solidDensity) + " kg/m^3 is negative or not finite"};
+      if (!std::isfinite(model.shellDensity) || model.shellDensity < 0.0)
+        return Error{"shell density " + std::to_string(model.shellDensity) + " kg/m^2 is negative or not finite"};
+    }
+    if (ids.empty()) return Ok{};
+    if (Status s = context_->makeCurrent(); !s) return s;
+    ensureTables();
+
+    for (layout::BodyRange& range : massRanges_) range.mode = 2;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Body& body = bodies_[ids[i]];
+      const TextureMassModel& model = models[i];
+      layout::BodyRange& range = massRanges_[ids[i]];
+      range.mode = model.texelDensity.empty() ? 0u : 1u;
+      range.uniformDensity = static_cast<float>(model.solidDensity);
+      if (range.mode == 1) uploadDensities(body, model.texelDensity);
+    }
+    tables_.massRanges.write(0, massRanges_.data(), massRanges_.size() * sizeof(layout::BodyRange));
+
+    glUseProgram(programs_.mass.id());
+    tables_.massChunks.bind(1);
+    tables_.massRanges.bind(2);
+    tables_.partials.bind(3);
+    runSegments(massStorage_, programs_.mass, true);
+    if (Status s = finalSums(true); !s) return s;
+
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const Body& body = bodies_[ids[i]];
+      const TextureMassModel& model = models[i];
+      const double* v = sums_[ids[i]].value;
+      if (!model.texelDensity.empty() && (!(v[10] >= 0.0) || !std::isfinite(v[0])))
+        return Error{"density map has a negative or non-finite density"};
+      double mass = v[0] + model.shellDensity * body.shellArea;
+      Eigen::Vector3d first = Eigen::Vector3d(v[1], v[2], v[3]) + model.shellDensity * body.shellFirst;
+      Eigen::Matrix3d second;
+      second << v[4], v[7], v[8], v[7], v[5], v[9], v[8], v[9], v[6];
+      second += model.shellDensity * body.shellSecond;
+      // TextureMassIntegrator::finish: centre from the first moment, inertia from the central
+      // second moment S as trace(S) Id - S.
+      MassProperties out;
+      out.mass = mass;
+      out.volume = body.totalVolume;
+      out.centerOfMass = body.referencePoint;
+      if (mass > 0.0) {
+        const Eigen::Vector3d offset = first / mass;
+        out.centerOfMass = body.referencePoint + offset;
+        const Eigen::Matrix3d central = second - mass * offset * offset.transpose();
+        out.inertia = central.trace() * Eigen::Matrix3d::Identity() - central;
+      }
+      results[i] = out;
+    }
+    return Ok{};
+  }
+
+ private:
+  struct Body {
+    std::size_t texelCount = 0;
+    std::uint32_t hydroChunkBegin = 0, hydroChunkEnd = 0, massChunkBegin = 0, massChunkEnd = 0;
+    Eigen::Vector3d referencePoint = Eigen::Vector3d::Zero();
+    double totalVolume = 0.0;
+    double shellArea = 0.0;
+    Eigen::Vector3d shellFirst = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
+    std::uint64_t batch = 0;
+  };
+  struct Tables {
+    GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
+  };
+  struct Programs {
+    GlProgram hydrostatics, mass, reduce;
+  };
+
+  static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
+    if (textures.size() != count || textures.areaVector.size() != count || textures.area.size() != count ||
+        textures.edgeU.size() != count || textures.edgeV.size() != count)
+      return Error{"gpu backend: surface textures hold " + std::to_string(textures.size()) + " texels, the body has " +
+                   std::to_string(count)};
+    for (std::size_t i = 0; i < count; ++i)
+      if (!textures.position[i].allFinite() || !textures.areaVector[i].allFinite() || !textures.edgeU[i].allFinite() ||
+          !textures.edgeV[i].allFinite() || !std::isfinite(textures.area[i]))
+        return Error{"gpu backend: texel " + std::to_string(i) + " has a non-finite value"};
+    return Ok{};
+  }
+
+  // Packs and writes a body's texels, chunk bounds, mass blocks and shell sums.
+  void uploadSurface(Body& body, const SurfaceTextures& textures) {
+    std::vector<layout::HydroTexel> hydro(body.texelCount);
+    std::vector<layout::MassTexel> mass(body.texelCount);
+    body.totalVolume = body.shellArea = 0.0;
+    body.shellFirst.setZero();
+    body.shellSecond.setZero();
+    for (std::size_t i = 0; i < body.texelCount; ++i) {
+      const Eigen::Vector3f& p = textures.position[i];
+      const Eigen::Vector3f& a = textures.areaVector[i];
+      const Eigen::Vector3f& u = textures.edgeU[i];
+      const Eigen::Vector3f& v = textures.edgeV[i];
+      hydro[i] = {p.x(), p.y(), p.z(), a.x(), a.y(), a.z(), textures.area[i], u.x(), u.y(), u.z(), v.x(), v.y(), v.z()};
+      // The cone of texel i from the reference point (TextureMassIntegrator's constructor).
+      const Eigen::Vector3d d = p.cast<double>() - body.referencePoint;
+      const double volume = d.dot(a.cast<double>()) / 3.0;
+      const double area = textures.area[i];
+      mass[i] = {{float(d.x()), float(d.y()), float(d.z()), float(volume)}};
+      const Eigen::Matrix3d covariance = texelCovariance(u.cast<double>(), v.cast<double>(), area);
+      layout::BlockGeometry& block = blocks_[body.massChunkBegin + i / kMassChunkTexels];
+      if (i % kMassChunkTexels == 0) block = layout::BlockGeometry{};
+      const Eigen::Matrix3d cone = 0.6 * volume * covariance;
+      const double terms[6] = {cone(0, 0), cone(1, 1), cone(2, 2), cone(0, 1), cone(0, 2), cone(1, 2)};
+      for (int k = 0; k < 6; ++k) block.covariance[k] += terms[k];
+      block.absVolume += std::abs(volume);
+      body.totalVolume += volume;
+      body.shellArea += area;
+      body.shellFirst += area * d;
+      body.shellSecond += area * (d * d.transpose() + covariance);
+    }
+    for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
+      layout::Chunk& chunk = hydroChunks_[c];
+      const std::size_t first = std::size_t(c - body.hydroChunkBegin) * kHydroChunkTexels;
+      Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
+      for (std::size_t i = first; i < first + chunk.count; ++i) {
+        // The patch p + s eU + t eV lies within p +- (|eU| + |eV|) / 2 per axis.
+        const Eigen::Vector3d p = textures.position[i].cast<double>();
+        const Eigen::Vector3d reach =
+            0.5 * (textures.edgeU[i].cast<double>().cwiseAbs() + textures.edgeV[i].cast<double>().cwiseAbs());
+        low = low.cwiseMin(p - reach);
+        high = high.cwiseMax(p + reach);
+      }
+      const Eigen::Vector3d center = 0.5 * (low + high);
+      // Widened by float rounding of the centre and of the shader's dot products, so that the
+      // culling never drops a texel the per-texel test would keep.
+      const Eigen::Vector3d half = 0.5 * (high - low) * (1.0 + 1e-5) + Eigen::Vector3d::Constant(1e-5 * center.norm() + 1e-9);
+      chunk.centerX = float(center.x());
+      chunk.centerY = float(center.y());
+      chunk.centerZ = float(center.z());
+      chunk.halfX = float(half.x());
+      chunk.halfY = float(half.y());
+      chunk.halfZ = float(half.z());
+      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.write(
+          std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
+    }
+    for (std::uint32_t c = body.massChunkBegin; c < body.massChunkEnd; ++c) {
+      const layout::Chunk& chunk = massChunks_[c];
+      const std::size_t first = std::size_t(c - body.massChunkBegin) * kMassChunkTexels;
+      massStorage_.segments[massStorage_.chunkSegment[c]].texels.write(
+          std::size_t(chunk.begin) * sizeof(layout::MassTexel), mass.data() + first, chunk.count * sizeof(layout::MassTexel));
+    }
+  }
+
+  // Writes a density map beside the body's mass texels, one write per run of chunks that are
+  // consecutive in one segment.
+  void uploadDensities(const Body& body, const std::vector<float>& densities) {
+    std::uint32_t c = body.massChunkBegin;
+    while (c < body.massChunkEnd) {
+      std::uint32_t end = c + 1;
+      while (end < body.massChunkEnd && massStorage_.chunkSegment[end] == massStorage_.chunkSegment[c]) ++end;
+      const std::size_t first = std::size_t(c - body.massChunkBegin) * kMassChunkTexels;
+      const std::size_t last = std::min(body.texelCount, std::size_t(end - body.massChunkBegin) * kMassChunkTexels);
+      massStorage_.segments[massStorage_.chunkSegment[c]].densities.write(
+          std::size_t(massChunks_[c].begin) * sizeof(float), densities.data() + first, (last - first) * sizeof(float));
+      c = end;
+    }
+  }
+
+  // (Re)creates the small per-chunk and per-body tables after bodies were added or changed.
+  void ensureTables() {
+    if (!tablesDirty_) return;
+    const std::size_t bodies = bodies_.size();
+    poses_.assign(bodies, layout::BodyPose{});
+    sums_.assign(bodies, layout::BodySums{});
+    hydroRanges_.resize(bodies);
+    massRanges_.resize(bodies);
+    for (std::size_t b = 0; b < bodies; ++b) {
+      hydroRanges_[b] = {bodies_[b].hydroChunkBegin, bodies_[b].hydroChunkEnd, 0u, 0.0f};
+      massRanges_[b] = {bodies_[b].massChunkBegin, bodies_[b].massChunkEnd, 2u, 0.0f};
+    }
+    auto upload = [](const auto& items) {
+      GlBuffer buffer(items.size() * sizeof(items[0]));
+      buffer.write(0, items.data(), items.size() * sizeof(items[0]));
+      return buffer;
+    };
+    tables_.hydroChunks = upload(hydroChunks_);
+    tables_.massChunks = upload(massChunks_);
+    tables_.hydroRanges = upload(hydroRanges_);
+    tables_.massRanges = upload(massRanges_);
+    tables_.blocks = upload(blocks_);
+    tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
+    tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
+    tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
+    partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
+    tablesDirty_ = false;
+  }
+
+  // One dispatch per segment over its chunks (binding 0: its texels; 4: its densities).
+  static void runSegments(const SegmentedStorage& storage, const GlProgram& program, bool withDensities) {
+    const GLint base = program.uniform("chunkBase"), count = program.uniform("chunkCount");
+    for (const SegmentedStorage::Segment& segment : storage.segments) {
+      segment.texels.bind(0);
+      if (withDensities) segment.densities.bind(4);
+      glUniform1ui(base, segment.chunkBegin);
+      glUniform1ui(count, segment.chunkEnd - segment.chunkBegin);
+      dispatchGroups(segment.chunkEnd - segment.chunkBegin);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+
+  // Per-body double sums of the chunk partials into sums_, on the GPU or the CPU.
+  Status finalSums(bool massMode) {
+    const std::vector<layout::BodyRange>& ranges = massMode ? massRanges_ : hydroRanges_;
+    if (finalOnGpu_) {
+      glUseProgram(programs_.reduce.id());
+      tables_.partials.bind(0);
+      (massMode ? tables_.massRanges : tables_.hydroRanges).bind(1);
+      tables_.blocks.bind(2);
+      tables_.results.bind(3);
+      glUniform1ui(programs_.reduce.uniform("bodyCount"), static_cast<GLuint>(bodies_.size()));
+      glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
+      dispatchGroups(static_cast<std::uint32_t>(bodies_.size()));
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      tables_.results.read(0, sums_.data(), sums_.size() * sizeof(layout::BodySums));
+    } else {
+      const std::size_t chunks = massMode ? massChunks_.size() : hydroChunks_.size();
+      tables_.partials.read(0, partials_.data(), chunks * sizeof(layout::Partial));
+      for (std::size_t b = 0; b < bodies_.size(); ++b) {
+        if (massMode && ranges[b].mode == 2) continue;
+        double s[12] = {};
+        if (massMode) s[10] = 3.0e38;
+        for (std::uint32_t c = ranges[b].chunkBegin; c < ranges[b].chunkEnd; ++c) {
+          const float* v = partials_[c].value;
+          if (!massMode) {
+            for (int k = 0; k < 11; ++k) s[k] += v[k];
+            continue;
+          }
+          // Same as reduce_partials.comp.
+          const layout::BlockGeometry& block = blocks_[c];
+          const double meanDensity = ranges[b].mode == 1 ? (block.absVolume > 0.0 ? v[10] / block.absVolume : 0.0)
+                                                         : double(ranges[b].uniformDensity);
+          s[0] += v[0];
+          for (int k = 1; k < 4; ++k) s[k] += 0.75 * v[k];
+          for (int k = 4; k < 10; ++k) s[k] += 0.6 * v[k] + meanDensity * block.covariance[k - 4];
+          if (!(double(v[11]) >= s[10])) s[10] = v[11];
+        }
+        std::copy(std::begin(s), std::end(s), sums_[b].value);
+      }
+    }
+    if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+      return Error{"gpu backend: OpenGL error " + std::to_string(error) + " in a compute pass"};
+    return Ok{};
+  }
+
+  std::unique_ptr<EglContext> context_;
+  bool finalOnGpu_;
+  Programs programs_;
+  SegmentedStorage hydroStorage_, massStorage_;
+  std::vector<layout::Chunk> hydroChunks_, massChunks_;
+  std::vector<layout::BlockGeometry> blocks_;  // per mass chunk
+  std::vector<Body> bodies_;
+  std::vector<layout::BodyRange> hydroRanges_, massRanges_;
+  std::vector<layout::BodyPose> poses_;
+  std::vector<layout::BodySums> sums_;
+  std::vector<layout::Partial> partials_;
+  Tables tables_;
+  bool tablesDirty_ = true;
+  std::uint64_t batch_ = 0;
+};
+
+}  // namespace
+
+Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglContext> context,
+                                                        const GlBackendSettings& settings) {
+  if (!context) return Error{"gpu backend: no context given"};
+  if (Status s = context->makeCurrent(); !s) return s.error();
+  if (settings.finalSum == FinalSum::Gpu && !context->hasShaderFp64())
+    return Error{"gpu backend: " + context->renderer() + " lacks GL_ARB_gpu_shader_fp64 for the final sum on the GPU"};
+  const bool finalOnGpu = settings.finalSum == FinalSum::Gpu ||
+                          (settings.finalSum == FinalSum::Automatic && context->hasShaderFp64());
+  GLint maxBlock = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+  std::size_t segmentBytes = std::min<std::size_t>(std::size_t(maxBlock > 0 ? maxBlock : (1 << 27)), std::size_t(1) << 28);
+  if (settings.segmentBytes > 0) segmentBytes = std::min(segmentBytes, settings.segmentBytes);
+  auto backend = std::make_unique<GlBackend>(std::move(context), finalOnGpu, segmentBytes);
+  if (Status s = backend->compile(); !s) return s.error();
+  return std::unique_ptr<ComputeBackend>(std::move(backend));
+}
+
+Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(const GlBackendSettings& settings) {
+  Expected<std::unique_ptr<EglContext>> context = EglContext::create();
+  if (!context) return Error{"gpu backend: " + context.error().message};
+  return makeGlBackend(std::move(context).value(), settings);
+}
+
+}  // namespace hydrotex::gpu
