@@ -15,9 +15,9 @@ double skinFrictionCoefficient(double reynolds) {
   return std::max(laminar, turbulent);
 }
 
-Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, const Eigen::Vector3d& relativeVelocity,
-                               double density, double viscosity, double referenceLength,
-                               const DragCoefficients& coefficients) {
+Eigen::Vector3d texelDragForceWithFriction(const Eigen::Vector3d& areaVector, double area,
+                                           const Eigen::Vector3d& relativeVelocity, double density,
+                                           double frictionCoefficient, const DragCoefficients& coefficients) {
   const double projectedArea = areaVector.norm();
   if (!(projectedArea > 0.0) || !(density > 0.0)) return Eigen::Vector3d::Zero();
   const Eigen::Vector3d normal = areaVector / projectedArea;
@@ -29,17 +29,23 @@ Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, c
   const double pressure = density * (0.5 * quadratic * std::abs(normalSpeed) * normalSpeed +
                                      coefficients.linearPressureVelocity * normalSpeed);
   Eigen::Vector3d force = -pressure * projectedArea * normal;
-
-  if (coefficients.skinFrictionScale > 0.0 && viscosity > 0.0 && referenceLength > 0.0) {
+  if (frictionCoefficient > 0.0) {
+    // Flat-plate skin friction on the tangential velocity: tau = rho/2 Cf |v_t| v_t.
     const Eigen::Vector3d tangential = relativeVelocity - normalSpeed * normal;
-    const double tangentialSpeed = tangential.norm();
-    if (tangentialSpeed > 0.0) {
-      const double reynolds = density * relativeVelocity.norm() * referenceLength / viscosity;
-      const double cf = coefficients.skinFrictionScale * skinFrictionCoefficient(reynolds);
-      force -= 0.5 * density * cf * tangentialSpeed * std::max(area, projectedArea) * tangential;
-    }
+    force -= 0.5 * density * frictionCoefficient * tangential.norm() * std::max(area, projectedArea) * tangential;
   }
   return force;
+}
+
+Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, const Eigen::Vector3d& relativeVelocity,
+                               double density, double viscosity, double referenceLength,
+                               const DragCoefficients& coefficients) {
+  double friction = 0.0;
+  if (coefficients.skinFrictionScale > 0.0 && viscosity > 0.0 && referenceLength > 0.0 && density > 0.0) {
+    const double reynolds = density * relativeVelocity.norm() * referenceLength / viscosity;
+    friction = coefficients.skinFrictionScale * skinFrictionCoefficient(reynolds);
+  }
+  return texelDragForceWithFriction(areaVector, area, relativeVelocity, density, friction, coefficients);
 }
 
 std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const SurfaceTextures& textures,

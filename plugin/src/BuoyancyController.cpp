@@ -384,12 +384,24 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     ++statistics_.dragPasses;
     liquidVelocityAtCenter += surface.velocity(center, time_);
     double wettedArea = 0.0;
-    const double viscosity = liquid_.viscosity;
+    // One skin friction coefficient per body and step, from the body's Reynolds number (the
+    // ITTC line is a whole-body correlation anyway); a still, flat, uniform liquid needs no
+    // per-patch surface, velocity or density calls.
+    const double density = surface.density();
+    const Eigen::Vector3d current = toEigen(liquid_.current);
+    double friction = 0.0;
+    if (settings.drag.skinFrictionScale > 0.0 && liquid_.viscosity > 0.0) {
+      const double reynolds = density * (v - liquidVelocityAtCenter).norm() * floating.referenceLength / liquid_.viscosity;
+      friction = settings.drag.skinFrictionScale * skinFrictionCoefficient(reynolds);
+    }
+    const std::optional<double> flatLevel = surface.flatHeight();
+    const bool uniformLiquid = surface.hasFreeSurface();
     for (const DragPatch& patch : floating.dragPatches) {
       const Eigen::Vector3d p = rotation * patch.position.cast<double>() + meshPose.translation;
       double wetFraction = 1.0;
       if (surface.hasFreeSurface()) {
-        const double depth = surface.surfaceHeight(p.x(), p.z(), time_) - p.y();
+        const double level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), time_);
+        const double depth = level - p.y();
         const double radius = std::max(double(patch.radius), 1e-9);
         // The patch is partly under water when the surface crosses its bounding sphere: a linear
         // ramp over the sphere's height keeps the force continuous as the waterline moves.
@@ -398,11 +410,12 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
       }
       ++statistics_.dragPatchesVisited;
       const Eigen::Vector3d r = p - center;
-      const Eigen::Vector3d liquidVelocity = surface.velocity(p, time_) + toEigen(liquid_.current);
+      const Eigen::Vector3d liquidVelocity = still ? current : Eigen::Vector3d(surface.velocity(p, time_) + current);
       const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
       const Eigen::Vector3d force =
-          wetFraction * texelDragForce(rotation * patch.areaVector.cast<double>(), double(patch.area), relative,
-                                       surface.densityAt(p), viscosity, floating.referenceLength, settings.drag);
+          wetFraction * texelDragForceWithFriction(rotation * patch.areaVector.cast<double>(), double(patch.area),
+                                                   relative, uniformLiquid ? density : surface.densityAt(p),
+                                                   friction, settings.drag);
       dragForce += force;
       dragTorque += r.cross(force);
       wettedArea += wetFraction * double(patch.area);

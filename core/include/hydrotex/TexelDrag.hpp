@@ -56,6 +56,13 @@ Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, c
                                double density, double viscosity, double referenceLength,
                                const DragCoefficients& coefficients);
 
+/// As texelDragForce with the skin friction coefficient `frictionCoefficient` given (already
+/// scaled): callers evaluating many elements of one body compute it once from the body's
+/// Reynolds number instead of once per element.
+Eigen::Vector3d texelDragForceWithFriction(const Eigen::Vector3d& areaVector, double area,
+                                           const Eigen::Vector3d& relativeVelocity, double density,
+                                           double frictionCoefficient, const DragCoefficients& coefficients);
+
 /// Merges the covered texels of each bake tile into patches of texels whose unit normals lie
 /// within `normalCosine` (e.g. 0.9) of the patch's first texel and whose centroids lie within
 /// `maxPatchRadius` (m) of it: the radius bounds how much of the lever arm (rotational damping,

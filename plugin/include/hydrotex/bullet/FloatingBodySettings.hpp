@@ -90,7 +90,7 @@ struct FloatingBodySettings {
   /// Texel normals within this cosine are merged into one drag patch per tile (0..1).
   double dragPatchNormalCosine = 0.9;
   /// Drag patches reach at most this fraction of the body's largest extent from their first texel.
-  double dragPatchRadiusFraction = 0.1;
+  double dragPatchRadiusFraction = 0.2;
 
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
