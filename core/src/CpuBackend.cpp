@@ -33,8 +33,8 @@ class CpuBackend final : public ComputeBackend {
   Status updateSurface(BackendBodyId id, const SurfaceTextures& textures) override {
     if (id >= bodies_.size()) return Error{"cpu backend: unknown body " + std::to_string(id)};
     Body& body = bodies_[id];
-    if (textures.size() != body.integrator.size())
-      return Error{"cpu backend: body " + std::to_string(id) + " has " + std::to_string(body.integrator.size()) +
+    if (textures.size() != body.hydrostatics.texelCount())
+      return Error{"cpu backend: body " + std::to_string(id) + " has " + std::to_string(body.hydrostatics.texelCount()) +
                    " texels, the new textures " + std::to_string(textures.size())};
     Expected<TextureHydrostatics> hydrostatics = TextureHydrostatics::build(body.bake, textures);
     if (!hydrostatics) return Error{"cpu backend: " + hydrostatics.error().message};

@@ -224,7 +224,8 @@ class GlBackend final : public ComputeBackend {
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
       const double* v = sums_[queries[i].body].value;
-      const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10]};
+      const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10],
+                                  bodies_[queries[i].body].calibration.scale(queries[i].query.pose.rotation)};
       results[i] = finishFlatHydrostatics(wetted, *flat, surface.density(), queries[i].query);
     }
     return Ok{};
@@ -308,6 +309,7 @@ class GlBackend final : public ComputeBackend {
     double shellArea = 0.0;
     Eigen::Vector3d shellFirst = Eigen::Vector3d::Zero();
     Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
+    TexelVolumeCalibration calibration;
     std::uint64_t batch = 0;
   };
   struct Tables {
@@ -333,6 +335,7 @@ class GlBackend final : public ComputeBackend {
   void uploadSurface(Body& body, const SurfaceTextures& textures) {
     std::vector<layout::HydroTexel> hydro(body.texelCount);
     std::vector<layout::MassTexel> mass(body.texelCount);
+    body.calibration = TexelVolumeCalibration::fromTextures(textures);
     body.totalVolume = body.shellArea = 0.0;
     body.shellFirst.setZero();
     body.shellSecond.setZero();

@@ -1,0 +1,361 @@
+// The same test bodies run against every compute backend (CPU, and GL on whatever headless EGL
+// gives: llvmpipe on CI): closed forms and the exact polyhedral path first, then the GL backend
+// against the CPU backend on the same inputs (issue 7's parity: 1e-5 relative on volume and force,
+// 1e-4 of the body's size on centres), batching rules, storage segments, deforming surfaces.
+// The GL cases are skipped with a WARN, never a failure, only when no EGL context can be opened.
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/PolyhedralHydrostatics.hpp"
+#include "hydrotex/Primitives.hpp"
+#include "hydrotex/gpu/GlBackend.hpp"
+
+using namespace hydrotex;
+namespace prim = hydrotex::primitives;
+
+namespace {
+
+constexpr int kResolution = 128;  // enough texels per body for the closed forms below, quick on llvmpipe
+
+struct TestBody {
+  std::string name;
+  BodyGeometry geometry;
+  double size;                       // largest extent (m): the scale of the centre tolerances
+  Eigen::Vector3d centroid;          // exact (m, body frame): mass reference point
+  double volume;                     // exact enclosed volume (m^3)
+};
+
+const std::vector<TestBody>& testBodies() {
+  static const std::vector<TestBody> bodies = [] {
+    std::vector<TestBody> out;
+    auto add = [&](const std::string& name, Mesh mesh, double size) {
+      BodyGeometrySettings settings;
+      settings.bake.width = settings.bake.height = kResolution;
+      Expected<BodyGeometry> geometry = prepareBodyGeometry(std::move(mesh), settings);
+      REQUIRE(geometry.ok());
+      const Expected<MassProperties> exact = polyhedralMassProperties(geometry->mesh, 1.0);
+      REQUIRE(exact.ok());
+      out.push_back({name, std::move(geometry).value(), size, exact->centerOfMass, exact->volume});
+    };
+    add("box", prim::box(Eigen::Vector3d(2.0, 1.0, 1.5)), 2.0);
+    add("sphere", prim::uvSphere(0.6, 32, 16), 1.2);
+    add("torus", prim::torus(1.0, 0.3, 32, 16), 2.6);
+    add("wigley", prim::wigleyHull(3.0, 0.6, 0.4, 24, 8), 3.0);
+    return out;
+  }();
+  return bodies;
+}
+
+// Every backend this machine can run; the CPU one always comes first (the reference).
+std::vector<std::unique_ptr<ComputeBackend>> allBackends(const gpu::GlBackendSettings& settings = {}) {
+  std::vector<std::unique_ptr<ComputeBackend>> out;
+  out.push_back(makeCpuBackend());
+  Expected<std::unique_ptr<ComputeBackend>> gl = gpu::makeGlBackend(settings);
+  if (gl)
+    out.push_back(std::move(gl).value());
+  else
+    WARN("GL backend skipped, no headless EGL context: " << gl.error().message);
+  return out;
+}
+
+void addBodies(ComputeBackend& backend) {
+  for (const TestBody& body : testBodies()) {
+    Expected<BackendBodyId> id = backend.addBody(body.geometry.bake, body.geometry.textures, body.centroid);
+    REQUIRE(id.ok());
+  }
+}
+
+// A batch of every test body at a few seeded poses around floating.
+std::vector<std::vector<BackendHydrostaticsQuery>> poseBatches() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-35.0, 35.0), height(-0.15, 0.15);
+  std::vector<std::vector<BackendHydrostaticsQuery>> batches;
+  for (int batch = 0; batch < 4; ++batch) {
+    std::vector<BackendHydrostaticsQuery> queries;
+    for (BackendBodyId id = 0; id < testBodies().size(); ++id) {
+      BackendHydrostaticsQuery q;
+      q.body = id;
+      q.query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(angle(rng), angle(rng), angle(rng)),
+                                          Eigen::Vector3d(3.0 * id, height(rng), -1.0));
+      q.query.centerOfMass = testBodies()[id].centroid;
+      queries.push_back(q);
+    }
+    batches.push_back(queries);
+  }
+  return batches;
+}
+
+std::vector<HydrostaticsResult> runBatch(ComputeBackend& backend, const LiquidSurface& surface,
+                                         const std::vector<BackendHydrostaticsQuery>& queries) {
+  std::vector<HydrostaticsResult> results(queries.size());
+  const Status status = backend.hydrostatics(surface, queries, results);
+  INFO(backend.name() << ": " << (status ? std::string() : status.error().message));
+  REQUIRE(status.ok());
+  return results;
+}
+
+// |value - reference| / |reference|; 0 when both are 0 (a body out of the liquid).
+double relative(double value, double reference) {
+  return value == reference ? 0.0 : std::abs(value - reference) / std::abs(reference);
+}
+
+}  // namespace
+
+TEST_CASE("every backend: a box at rest matches the closed form", "[backend]") {
+  // Box 2 x 1 x 1.5 with its centre 0.2 m above the surface: draft 0.3 m, V = 2 * 1.5 * 0.3,
+  // centre of buoyancy 0.15 m below the surface, water plane 2 x 1.5. The texel sums are exact
+  // for flat faces up to float rounding of the texels (1e-6 relative).
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name() << " on " << backend->renderer());
+    addBodies(*backend);
+    FlatSurface water(0.25, 1025.0);
+    BackendHydrostaticsQuery q;
+    q.query.pose.translation = Eigen::Vector3d(1.0, 0.45, -2.0);
+    const HydrostaticsResult r = runBatch(*backend, water, {q})[0];
+    const double volume = 2.0 * 1.5 * 0.3;
+    CHECK(relative(r.submergedVolume, volume) < 1e-6);
+    CHECK(relative(r.buoyancyForce.y(), 1025.0 * 9.81 * volume) < 1e-6);
+    CHECK((r.centerOfBuoyancy - Eigen::Vector3d(1.0, 0.25 - 0.15, -2.0)).norm() < 1e-6);
+    CHECK(relative(r.waterplaneArea, 3.0) < 1e-6);
+    CHECK(relative(r.wettedArea, 3.0 + 2.0 * (2.0 + 1.5) * 0.3) < 1e-6);
+    CHECK(r.torqueAboutCenterOfMass.norm() < 1e-6 * r.buoyancyForce.norm());
+  }
+}
+
+TEST_CASE("every backend: tilted bodies against the exact polyhedral path", "[backend]") {
+  // Texture sums at 128^2 converge to the exact polyhedral integrals as O(h^2) on curved surfaces
+  // (bench_hydrostatics, test_texture_hydrostatics); 2e-3 of the volume and 2e-3 of the body size
+  // hold at this resolution for these shapes with a margin of about 3.
+  FlatSurface water(0.0);
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    for (const auto& batch : poseBatches()) {
+      const std::vector<HydrostaticsResult> results = runBatch(*backend, water, batch);
+      for (std::size_t i = 0; i < batch.size(); ++i) {
+        const TestBody& body = testBodies()[batch[i].body];
+        INFO(body.name);
+        const Expected<HydrostaticsResult> exact = polyhedralHydrostatics(body.geometry.mesh, water, batch[i].query);
+        REQUIRE(exact.ok());
+        CHECK(std::abs(results[i].submergedVolume - exact->submergedVolume) < 2e-3 * body.volume);
+        CHECK((results[i].centerOfBuoyancy - exact->centerOfBuoyancy).norm() < 2e-3 * body.size);
+      }
+    }
+  }
+}
+
+TEST_CASE("GL backend matches the CPU backend on the same inputs", "[backend][parity]") {
+  auto backends = allBackends();
+  if (backends.size() < 2) return;
+  for (auto& backend : backends) addBodies(*backend);
+  FlatSurface water(0.0, 1025.0);
+  for (const auto& batch : poseBatches()) {
+    const auto cpu = runBatch(*backends[0], water, batch);
+    const auto gl = runBatch(*backends[1], water, batch);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const TestBody& body = testBodies()[batch[i].body];
+      INFO(body.name);
+      // Issue 7's tolerances: float texels and float partial sums against double sums.
+      CHECK(relative(gl[i].submergedVolume, cpu[i].submergedVolume) <= 1e-5);
+      CHECK((gl[i].buoyancyForce - cpu[i].buoyancyForce).norm() <= 1e-5 * cpu[i].buoyancyForce.norm());
+      CHECK((gl[i].centerOfBuoyancy - cpu[i].centerOfBuoyancy).norm() <= 1e-4 * body.size);
+      CHECK((gl[i].waterplaneCentroid - cpu[i].waterplaneCentroid).norm() <= 1e-4 * body.size);
+      // Torque is force times a lever of the body's size: the centre tolerance carried over.
+      CHECK((gl[i].torqueAboutCenterOfMass - cpu[i].torqueAboutCenterOfMass).norm() <
+            1e-4 * body.size * cpu[i].buoyancyForce.norm());
+      // Water-plane and wetted areas come from the waterline texels alone, weighted by float
+      // fractions: 1e-4 relative.
+      CHECK(relative(gl[i].waterplaneArea, cpu[i].waterplaneArea) <= 1e-4);
+      CHECK(relative(gl[i].wettedArea, cpu[i].wettedArea) <= 1e-5);
+      // Stiffness: the heave term is rho g A_wp; the rotational ones mix water-plane second
+      // moments with V (y_B - h), each as above: 1e-4 of the largest entry.
+      CHECK((gl[i].stiffness - cpu[i].stiffness).norm() <= 1e-4 * cpu[i].stiffness.norm());
+    }
+  }
+}
+
+TEST_CASE("every backend: mass properties against closed forms", "[backend][mass]") {
+  // Uniform box 2 x 1 x 1.5 of 800 kg/m^3: the cone volumes sum to the exact volume (float
+  // rounding: 1e-6), the centre is the origin, the inertia m (b^2 + c^2) / 12; the cone
+  // covariance of a flat texel is exact, so 1e-5 relative holds.
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    TextureMassModel model;
+    model.solidDensity = 800.0;
+    MassProperties result;
+    const BackendBodyId id = 0;
+    REQUIRE(backend->massProperties({&id, 1}, {&model, 1}, {&result, 1}).ok());
+    const double mass = 800.0 * 3.0;
+    CHECK(relative(result.mass, mass) < 1e-6);
+    CHECK(relative(result.volume, 3.0) < 1e-6);
+    CHECK(result.centerOfMass.norm() < 1e-6);
+    CHECK(relative(result.inertia(0, 0), mass * (1.0 + 2.25) / 12.0) < 1e-5);
+    CHECK(relative(result.inertia(1, 1), mass * (4.0 + 2.25) / 12.0) < 1e-5);
+    CHECK(relative(result.inertia(2, 2), mass * (4.0 + 1.0) / 12.0) < 1e-5);
+    CHECK(std::abs(result.inertia(0, 1)) < 1e-6 * mass);
+  }
+}
+
+TEST_CASE("GL backend mass properties match the CPU backend", "[backend][mass][parity]") {
+  auto backends = allBackends();
+  if (backends.size() < 2) return;
+  for (auto& backend : backends) addBodies(*backend);
+  // All bodies in one call: solid, shell, and a density map varying with the texel index.
+  std::vector<BackendBodyId> ids;
+  std::vector<TextureMassModel> models;
+  for (BackendBodyId id = 0; id < testBodies().size(); ++id) {
+    TextureMassModel model;
+    model.solidDensity = 500.0 + 100.0 * id;
+    model.shellDensity = id % 2 == 0 ? 0.0 : 12.0;
+    if (id == 2) {
+      const std::size_t count = testBodies()[id].geometry.textures.size();
+      for (std::size_t i = 0; i < count; ++i) model.texelDensity.push_back(float(700.0 + 300.0 * std::sin(1e-3 * double(i))));
+    }
+    ids.push_back(id);
+    models.push_back(model);
+  }
+  std::vector<MassProperties> cpu(ids.size()), gl(ids.size());
+  REQUIRE(backends[0]->massProperties(ids, models, cpu).ok());
+  REQUIRE(backends[1]->massProperties(ids, models, gl).ok());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const TestBody& body = testBodies()[i];
+    INFO(body.name);
+    CHECK(relative(gl[i].mass, cpu[i].mass) < 1e-5);
+    CHECK(relative(gl[i].volume, cpu[i].volume) < 1e-5);
+    CHECK((gl[i].centerOfMass - cpu[i].centerOfMass).norm() < 1e-4 * body.size);
+    // Inertia is mass times size squared: the centre tolerance, relative, carried over.
+    CHECK((gl[i].inertia - cpu[i].inertia).norm() < 1e-4 * cpu[i].inertia.norm());
+  }
+}
+
+TEST_CASE("every backend: batching rules and bad input give errors, not crashes", "[backend]") {
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    CHECK(backend->bodyCount() == testBodies().size());
+    FlatSurface water(0.0);
+    std::vector<HydrostaticsResult> results(2);
+    BackendHydrostaticsQuery q;
+    q.body = 99;
+    CHECK(!backend->hydrostatics(water, std::span(&q, 1), results).ok());
+    q.body = 1;
+    const std::vector<BackendHydrostaticsQuery> twice = {q, q};
+    CHECK(!backend->hydrostatics(water, twice, results).ok());
+    CHECK(!backend->hydrostatics(water, twice, std::span(results).first(1)).ok());
+    q.query.gravity = -1.0;
+    CHECK(!backend->hydrostatics(water, std::span(&q, 1), results).ok());
+    FlatSurface bad(0.0, -5.0);
+    q.query.gravity = 9.81;
+    CHECK(!backend->hydrostatics(bad, std::span(&q, 1), results).ok());
+
+    TextureMassModel model;
+    model.texelDensity = {1.0f, 2.0f};  // wrong size
+    MassProperties mass;
+    const BackendBodyId id = 1;
+    CHECK(!backend->massProperties({&id, 1}, {&model, 1}, {&mass, 1}).ok());
+    model.texelDensity.assign(testBodies()[1].geometry.textures.size(), 900.0f);
+    model.texelDensity[17] = -1.0f;
+    CHECK(!backend->massProperties({&id, 1}, {&model, 1}, {&mass, 1}).ok());
+    model.texelDensity[17] = NAN;
+    CHECK(!backend->massProperties({&id, 1}, {&model, 1}, {&mass, 1}).ok());
+    model.texelDensity.clear();
+    model.solidDensity = -2.0;
+    CHECK(!backend->massProperties({&id, 1}, {&model, 1}, {&mass, 1}).ok());
+
+    SurfaceTextures wrong = testBodies()[0].geometry.textures;
+    wrong.area.pop_back();
+    CHECK(!backend->updateSurface(0, wrong).ok());
+    CHECK(!backend->updateSurface(42, testBodies()[0].geometry.textures).ok());
+    CHECK(!backend->addBody(testBodies()[0].geometry.bake, wrong, Eigen::Vector3d::Zero()).ok());
+  }
+}
+
+TEST_CASE("every backend: a body asked alone answers as in a full batch", "[backend]") {
+  // Bodies left out of a batch must not leak into the others' sums (the GL backend lifts them out
+  // of the liquid): the same numbers to float-reduction order, 1e-12 relative.
+  FlatSurface water(0.0);
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    const auto batch = poseBatches()[0];
+    const auto full = runBatch(*backend, water, batch);
+    const auto alone = runBatch(*backend, water, {batch[2]});
+    CHECK(relative(alone[0].submergedVolume, full[2].submergedVolume) < 1e-12);
+    CHECK((alone[0].centerOfBuoyancy - full[2].centerOfBuoyancy).norm() < 1e-12);
+  }
+}
+
+TEST_CASE("every backend: a deforming body re-evaluated from its bake", "[backend]") {
+  // The sphere scaled by 1.1 about its centre: the volume of a fully submerged body grows by
+  // 1.1^3 exactly (texel sums are linear in the moved vertices' positions and area vectors).
+  FlatSurface water(10.0);
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    const TestBody& sphere = testBodies()[1];
+    Mesh grown = sphere.geometry.mesh;
+    for (auto& vertex : grown.positions) vertex *= 1.1;
+    const SurfaceTextures textures = evaluateSurface(sphere.geometry.bake, grown, sphere.geometry.atlas.layout);
+    BackendHydrostaticsQuery q;
+    q.body = 1;
+    const double before = runBatch(*backend, water, {q})[0].submergedVolume;
+    REQUIRE(backend->updateSurface(1, textures).ok());
+    const double after = runBatch(*backend, water, {q})[0].submergedVolume;
+    CHECK(relative(after, 1.331 * before) < 1e-5);
+  }
+}
+
+TEST_CASE("GL backend: storage segments and the CPU final sum give the same answers", "[backend][gpu]") {
+  // 64 KiB segments split every body across several buffers and dispatches; the final sum on the
+  // CPU adds the same float partials in double in another order: 1e-12 relative.
+  gpu::GlBackendSettings small;
+  small.segmentBytes = 64 * 1024;
+  small.finalSum = gpu::FinalSum::Cpu;
+  Expected<std::unique_ptr<ComputeBackend>> reference = gpu::makeGlBackend();
+  Expected<std::unique_ptr<ComputeBackend>> split = gpu::makeGlBackend(small);
+  if (!reference || !split) {
+    WARN("GL backend skipped, no headless EGL context: " << (reference ? split.error() : reference.error()).message);
+    return;
+  }
+  addBodies(**reference);
+  addBodies(**split);
+  FlatSurface water(0.0);
+  const auto batch = poseBatches()[1];
+  const auto a = runBatch(**reference, water, batch);
+  const auto b = runBatch(**split, water, batch);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    CHECK(relative(b[i].submergedVolume, a[i].submergedVolume) < 1e-12);
+    CHECK((b[i].centerOfBuoyancy - a[i].centerOfBuoyancy).norm() < 1e-12 * testBodies()[i].size);
+  }
+  TextureMassModel model;
+  MassProperties ma, mb;
+  const BackendBodyId id = 3;
+  REQUIRE((*reference)->massProperties({&id, 1}, {&model, 1}, {&ma, 1}).ok());
+  REQUIRE((*split)->massProperties({&id, 1}, {&model, 1}, {&mb, 1}).ok());
+  CHECK(relative(mb.mass, ma.mass) < 1e-12);
+  CHECK((mb.inertia - ma.inertia).norm() < 1e-12 * ma.inertia.norm());
+}
+
+TEST_CASE("GL backend: waves are refused with an error naming the CPU backend", "[backend][gpu]") {
+  Expected<std::unique_ptr<ComputeBackend>> gl = gpu::makeGlBackend();
+  if (!gl) {
+    WARN("GL backend skipped, no headless EGL context: " << gl.error().message);
+    return;
+  }
+  addBodies(**gl);
+  GerstnerWaves waves({GerstnerWave{}});
+  BackendHydrostaticsQuery q;
+  HydrostaticsResult result;
+  const Status status = (*gl)->hydrostatics(waves, std::span(&q, 1), std::span(&result, 1));
+  REQUIRE(!status.ok());
+  CHECK(status.error().message.find("cpu backend") != std::string::npos);
+}
