@@ -29,8 +29,9 @@ Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const Liqu
 Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
 
-/// Status of the closedness check alone: every undirected edge used by exactly two triangles, once
-/// in each direction. The message names the first offending edge.
+/// Status of the closedness check alone, MeshValidation's (validateMesh + requireClosed on the
+/// topology): every edge used by exactly two triangles, once in each direction, and a positive
+/// enclosed volume (not inside out). The message names the mesh and counts the offending edges.
 Status checkClosedMesh(const Mesh& mesh);
 
 }  // namespace hydrotex
