@@ -218,7 +218,7 @@ bool uvTrianglesOverlap(const Eigen::Vector2d a[3], const Eigen::Vector2d b[3], 
   return true;
 }
 
-MeshReport validateMesh(const Mesh& mesh) {
+MeshReport validateMesh(const Mesh& mesh, bool checkUvs) {
   MeshReport report;
   report.triangleCount = mesh.triangles.size();
   report.vertexCount = mesh.positions.size();
@@ -267,6 +267,7 @@ MeshReport validateMesh(const Mesh& mesh) {
     report.outwardOriented = signedVolume > 0.0;
   }
 
+  if (!checkUvs) return report;
   report.hasUv = mesh.hasUvs();
   if (report.hasUv) validateUvs(mesh, degenerate, report);
   return report;

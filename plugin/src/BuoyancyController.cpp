@@ -145,9 +145,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
   }
   const Mesh& mesh = *floating->mesh;
-  if (Status closed = checkClosedMesh(mesh); !closed) {
-    return Error{(mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName) + ": " + closed.error().message};
-  }
+  if (Status closed = checkClosedMesh(mesh); !closed) return closed.error();  // the message names the mesh
 
   // Uniform solids: the exact polyhedral mass properties (once, at registration).
   Expected<MassProperties> unitDensity = polyhedralMassProperties(mesh, 1.0);

@@ -4,6 +4,9 @@
 
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/Primitives.hpp"
+#ifdef CONSUMER_HAS_BULLET
+#include "hydrotex/bullet/BuoyancyController.hpp"
+#endif
 
 int main() {
   const hydrotex::Mesh box = hydrotex::primitives::box(Eigen::Vector3d(1.0, 2.0, 3.0));
@@ -12,6 +15,15 @@ int main() {
     std::fprintf(stderr, "consumer: wrong volume\n");
     return 1;
   }
+#ifdef CONSUMER_HAS_BULLET
+  // The plugin's settings validate without a world: enough to prove headers and library link.
+  hydrotex::bullet::FloatingBodySettings settings;
+  settings.mesh = std::make_shared<const hydrotex::Mesh>(box);
+  if (!settings.validate()) {
+    std::fprintf(stderr, "consumer: default body settings rejected: %s\n", settings.validate().error().message.c_str());
+    return 1;
+  }
+#endif
   std::printf("consumer: installed hydrotex works, volume %.3f m^3\n", mass->volume);
   return 0;
 }

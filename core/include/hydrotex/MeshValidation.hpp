@@ -53,8 +53,9 @@ struct MeshReport {
 
 /// Validates topology, orientation, area, volume and UVs. O(n log n) in the triangle count;
 /// a million triangles take about a second. Never fails: indices out of range count as
-/// degenerate triangles.
-MeshReport validateMesh(const Mesh& mesh);
+/// degenerate triangles. With `checkUvs` false the UV findings are left at their defaults (the
+/// overlap search dominates the cost; paths that only need the topology skip it).
+MeshReport validateMesh(const Mesh& mesh, bool checkUvs = true);
 
 /// How the edges of a mesh are shared (each undirected edge counted once).
 struct EdgeTopology {
