@@ -18,6 +18,8 @@ void addMassVerb(CLI::App& app, VerbAction& action);
 void addBakeVerb(CLI::App& app, VerbAction& action);
 /// `hydrotex hydrostatics MESH ...`: submerged volume, buoyancy, waterplane, stiffness at a pose.
 void addHydrostaticsVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex advise MESH --error E [--json]`: the cheapest method and resolution under an error.
+void addAdviseVerb(CLI::App& app, VerbAction& action);
 /// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene in Bullet.
 void addSimulateVerb(CLI::App& app, VerbAction& action);
 

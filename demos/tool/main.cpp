@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   hydrotex::tool::addMassVerb(app, action);
   hydrotex::tool::addBakeVerb(app, action);
   hydrotex::tool::addHydrostaticsVerb(app, action);
+#ifdef HYDROTEX_WITH_ADVISE
+  hydrotex::tool::addAdviseVerb(app, action);
+#endif
 #ifdef HYDROTEX_WITH_BULLET
   hydrotex::tool::addSimulateVerb(app, action);
 #endif
