@@ -24,8 +24,16 @@ class CpuBackend final : public ComputeBackend {
     if (!massReferencePoint.allFinite()) return Error{"cpu backend: mass reference point is not finite"};
     Expected<TextureHydrostatics> hydrostatics = TextureHydrostatics::build(bake, textures);
     if (!hydrostatics) return Error{"cpu backend: " + hydrostatics.error().message};
-    bodies_.push_back(Body{bake, std::move(hydrostatics).value(), TextureMassIntegrator(textures, massReferencePoint),
-                           massReferencePoint});
+    // Only the texel layout is kept to rebuild the tiles later, not the pieces (the bulk of a
+    // bake: 1,000 bodies at 256^2 would hold gigabytes of them).
+    SurfaceBake layout;
+    layout.width = bake.width;
+    layout.height = bake.height;
+    layout.tileSize = bake.tileSize;
+    layout.texelIndex = bake.texelIndex;
+    layout.tileStart = bake.tileStart;
+    bodies_.push_back(Body{std::move(layout), std::move(hydrostatics).value(),
+                           TextureMassIntegrator(textures, massReferencePoint), massReferencePoint});
     seen_.push_back(0);
     return BackendBodyId(bodies_.size() - 1);
   }
@@ -73,7 +81,7 @@ class CpuBackend final : public ComputeBackend {
 
  private:
   struct Body {
-    SurfaceBake bake;  // kept to rebuild the tiles when the surface deforms
+    SurfaceBake bake;  // texel layout only (no pieces), to rebuild the tiles when the surface deforms
     TextureHydrostatics hydrostatics;
     TextureMassIntegrator integrator;
     Eigen::Vector3d referencePoint;

@@ -8,15 +8,17 @@ layout(std430, binding = 1) readonly buffer Ranges { BodyRange ranges[]; };
 layout(std430, binding = 2) readonly buffer Blocks { BlockGeometry blocks[]; };
 layout(std430, binding = 3) writeonly buffer Results { BodySums results[]; };
 
-uniform uint bodyCount;
+uniform uint bodyBase;   // first body of this dispatch
+uniform uint bodyCount;  // bodies in this dispatch
 uniform bool massMode;
 
 const uint kGroup = 64u;
 shared double reduction[12][kGroup];
 
 void main() {
-  uint body = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (body >= bodyCount) return;
+  uint local = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (local >= bodyCount) return;
+  uint body = bodyBase + local;
   BodyRange range = ranges[body];
   if (massMode && range.mode == 2u) return;
   uint lane = gl_LocalInvocationID.x;

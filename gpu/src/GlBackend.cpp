@@ -219,8 +219,9 @@ class GlBackend final : public ComputeBackend {
     tables_.hydroChunks.bind(1);
     tables_.poses.bind(2);
     tables_.partials.bind(3);
-    runSegments(hydroStorage_, programs_.hydrostatics, false);
-    if (Status s = finalSums(false); !s) return s;
+    const auto [low, high] = bodyWindow(queries);
+    runSegments(hydroStorage_, programs_.hydrostatics, false, bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd);
+    if (Status s = finalSums(false, low, high); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
       const double* v = sums_[queries[i].body].value;
@@ -269,8 +270,9 @@ class GlBackend final : public ComputeBackend {
     tables_.massChunks.bind(1);
     tables_.massRanges.bind(2);
     tables_.partials.bind(3);
-    runSegments(massStorage_, programs_.mass, true);
-    if (Status s = finalSums(true); !s) return s;
+    const auto [low, high] = std::minmax_element(ids.begin(), ids.end());
+    runSegments(massStorage_, programs_.mass, true, bodies_[*low].massChunkBegin, bodies_[*high].massChunkEnd);
+    if (Status s = finalSums(true, *low, *high + 1); !s) return s;
 
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const Body& body = bodies_[ids[i]];
@@ -439,21 +441,38 @@ class GlBackend final : public ComputeBackend {
     tablesDirty_ = false;
   }
 
-  // One dispatch per segment over its chunks (binding 0: its texels; 4: its densities).
-  static void runSegments(const SegmentedStorage& storage, const GlProgram& program, bool withDensities) {
+  // One dispatch per segment over its chunks inside [first, last) (binding 0: its texels; 4: its
+  // densities). The window spans the asked bodies only.
+  // Quirk (llvmpipe): an empty workgroup still costs microseconds, so a call about one body must
+  // not dispatch the chunks of the 1,000 others.
+  static void runSegments(const SegmentedStorage& storage, const GlProgram& program, bool withDensities,
+                          std::uint32_t first, std::uint32_t last) {
     const GLint base = program.uniform("chunkBase"), count = program.uniform("chunkCount");
     for (const SegmentedStorage::Segment& segment : storage.segments) {
+      const std::uint32_t begin = std::max(first, segment.chunkBegin), end = std::min(last, segment.chunkEnd);
+      if (begin >= end) continue;
       segment.texels.bind(0);
       if (withDensities) segment.densities.bind(4);
-      glUniform1ui(base, segment.chunkBegin);
-      glUniform1ui(count, segment.chunkEnd - segment.chunkBegin);
-      dispatchGroups(segment.chunkEnd - segment.chunkBegin);
+      glUniform1ui(base, begin);
+      glUniform1ui(count, end - begin);
+      dispatchGroups(end - begin);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
 
-  // Per-body double sums of the chunk partials into sums_, on the GPU or the CPU.
-  Status finalSums(bool massMode) {
+  // The smallest range of bodies [low, high) holding every queried one.
+  static std::pair<std::uint32_t, std::uint32_t> bodyWindow(std::span<const BackendHydrostaticsQuery> queries) {
+    std::uint32_t low = queries[0].body, high = queries[0].body;
+    for (const BackendHydrostaticsQuery& q : queries) {
+      low = std::min(low, q.body);
+      high = std::max(high, q.body);
+    }
+    return {low, high + 1};
+  }
+
+  // Per-body double sums of the chunk partials of bodies [low, high) into sums_, on the GPU or
+  // the CPU.
+  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high) {
     const std::vector<layout::BodyRange>& ranges = massMode ? massRanges_ : hydroRanges_;
     if (finalOnGpu_) {
       glUseProgram(programs_.reduce.id());
@@ -461,15 +480,16 @@ class GlBackend final : public ComputeBackend {
       (massMode ? tables_.massRanges : tables_.hydroRanges).bind(1);
       tables_.blocks.bind(2);
       tables_.results.bind(3);
-      glUniform1ui(programs_.reduce.uniform("bodyCount"), static_cast<GLuint>(bodies_.size()));
+      glUniform1ui(programs_.reduce.uniform("bodyBase"), low);
+      glUniform1ui(programs_.reduce.uniform("bodyCount"), high - low);
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
-      dispatchGroups(static_cast<std::uint32_t>(bodies_.size()));
+      dispatchGroups(high - low);
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-      tables_.results.read(0, sums_.data(), sums_.size() * sizeof(layout::BodySums));
+      tables_.results.read(low * sizeof(layout::BodySums), sums_.data() + low, (high - low) * sizeof(layout::BodySums));
     } else {
-      const std::size_t chunks = massMode ? massChunks_.size() : hydroChunks_.size();
-      tables_.partials.read(0, partials_.data(), chunks * sizeof(layout::Partial));
-      for (std::size_t b = 0; b < bodies_.size(); ++b) {
+      const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
+      tables_.partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
+      for (std::size_t b = low; b < high; ++b) {
         if (massMode && ranges[b].mode == 2) continue;
         double s[12] = {};
         if (massMode) s[10] = 3.0e38;

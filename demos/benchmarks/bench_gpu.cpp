@@ -1,0 +1,191 @@
+// Benchmark for issue 7: the compute backends on one batched step. Rows:
+//   hydrostatics: 1,000 bodies (sphere, 256^2 bake each), flat surface, one batched step
+//   mass: one body at 1024^2, uniform density, and with a density map uploaded each call
+//   bake / upload: the CPU's exact bake and its one-time upload (why the bake is not rasterized)
+// Beside each GPU figure the bandwidth floor: bytes the pass must read over the memory bandwidth
+// (argv[2] in GB/s; default: measured host read bandwidth, which is what llvmpipe reads from).
+// Prints a table and writes CSV (argv[1], default bench_gpu.csv):
+// backend,renderer,what,bodies,texels,median_ms,runs,bytes_read,floor_ms
+// Built with hydrotex::gpu when it exists (HYDROTEX_WITH_GPU); otherwise the CPU rows only.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/Primitives.hpp"
+#if defined(HYDROTEX_WITH_GPU)
+#include "hydrotex/gpu/GlBackend.hpp"
+#endif
+
+using namespace hydrotex;
+
+namespace {
+
+double medianMs(int runs, const std::function<void()>& work) {
+  std::vector<double> times;
+  for (int r = 0; r < runs; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+// Streaming read bandwidth of this host (bytes/s), best of 5 passes over 512 MiB: the floor's
+// denominator for llvmpipe, whose "GPU memory" is host memory.
+double hostReadBandwidth() {
+  std::vector<float> data(std::size_t(1) << 27, 1.0f);
+  double best = 0.0;
+  volatile float sink = 0.0f;
+  for (int pass = 0; pass < 5; ++pass) {
+    const auto start = std::chrono::steady_clock::now();
+    float lanes[16] = {};
+    for (std::size_t i = 0; i < data.size(); i += 16)
+      for (int l = 0; l < 16; ++l) lanes[l] += data[i + std::size_t(l)];
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    for (float lane : lanes) sink = sink + lane;
+    best = std::max(best, double(data.size() * sizeof(float)) / seconds);
+  }
+  return best;
+}
+
+struct Row {
+  std::string backend, renderer, what;
+  std::size_t bodies, texels;
+  double medianMs;
+  int runs;
+  double bytesRead;  // 0: no floor given
+};
+
+BodyGeometry prepare(const Mesh& mesh, int resolution) {
+  BodyGeometrySettings settings;
+  settings.bake.width = settings.bake.height = resolution;
+  Expected<BodyGeometry> body = prepareBodyGeometry(mesh, settings);
+  if (!body) {
+    std::fprintf(stderr, "bench_gpu: %s\n", body.error().message.c_str());
+    std::exit(1);
+  }
+  return std::move(body).value();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string csvPath = argc > 1 ? argv[1] : "bench_gpu.csv";
+  const double bandwidth = argc > 2 ? std::atof(argv[2]) * 1e9 : hostReadBandwidth();
+  constexpr std::size_t kBodies = 1000;
+  std::vector<Row> rows;
+
+  const Mesh sphere = primitives::uvSphere(0.5, 64, 32);
+  const auto bakeStart = std::chrono::steady_clock::now();
+  const BodyGeometry small = prepare(sphere, 256);
+  const double bake256 = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - bakeStart).count();
+  const auto bigStart = std::chrono::steady_clock::now();
+  const BodyGeometry big = prepare(sphere, 1024);
+  const double bake1024 = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - bigStart).count();
+  rows.push_back({"cpu", "CPU", "prepare+bake 256^2 (once per body)", 1, small.textures.size(), bake256, 1, 0.0});
+  rows.push_back({"cpu", "CPU", "prepare+bake 1024^2 (once per body)", 1, big.textures.size(), bake1024, 1, 0.0});
+
+  // 1,000 floating spheres at seeded poses, all in one batch.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-30.0, 30.0), height(-0.2, 0.2);
+  std::vector<BackendHydrostaticsQuery> queries(kBodies);
+  for (std::size_t i = 0; i < kBodies; ++i) {
+    queries[i].body = BackendBodyId(i);
+    queries[i].query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(angle(rng), angle(rng), angle(rng)),
+                                                 Eigen::Vector3d(double(i % 40), height(rng), double(i / 40)));
+  }
+  const FlatSurface water(0.0, 1025.0);
+
+  // One backend alive at a time: 1,000 bodies hold gigabytes of texels.
+  std::vector<std::function<std::unique_ptr<ComputeBackend>()>> makers = {[] { return makeCpuBackend(); }};
+#if defined(HYDROTEX_WITH_GPU)
+  makers.push_back([]() -> std::unique_ptr<ComputeBackend> {
+    Expected<std::unique_ptr<ComputeBackend>> gl = gpu::makeGlBackend();
+    if (gl) return std::move(gl).value();
+    std::fprintf(stderr, "bench_gpu: GL backend skipped: %s\n", gl.error().message.c_str());
+    return nullptr;
+  });
+#endif
+
+  std::vector<std::vector<HydrostaticsResult>> answers;
+  for (auto& make : makers) {
+    std::unique_ptr<ComputeBackend> backend = make();
+    if (!backend) continue;
+    const std::string name = backend->name(), renderer = backend->renderer();
+    const auto addStart = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < kBodies; ++i)
+      if (!backend->addBody(small.bake, small.textures, Eigen::Vector3d::Zero())) return 1;
+    const double addMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - addStart).count();
+    rows.push_back({name, renderer, "add 1000 bodies 256^2 (once)", kBodies, kBodies * small.textures.size(), addMs, 1, 0.0});
+
+    std::vector<HydrostaticsResult> results(kBodies);
+    Status status = backend->hydrostatics(water, queries, results);  // warm-up (tables, shaders)
+    if (!status) {
+      std::fprintf(stderr, "bench_gpu: %s\n", status.error().message.c_str());
+      return 1;
+    }
+    const int runs = 7;
+    const double ms = medianMs(runs, [&] { status = backend->hydrostatics(water, queries, results); });
+    // Read per texel: one 52-byte HydroTexel (brute force over wet chunks; chunks above the
+    // water are skipped, so this is the floor of reading every texel once).
+    rows.push_back({name, renderer, "hydrostatics 1000 x 256^2, one batched step", kBodies,
+                    kBodies * small.textures.size(), ms, runs, name == "cpu" ? 0.0 : 52.0 * double(kBodies * small.textures.size())});
+    answers.push_back(results);
+
+    const BackendBodyId id = BackendBodyId(backend->addBody(big.bake, big.textures, Eigen::Vector3d::Zero()).value());
+    TextureMassModel uniform;
+    MassProperties mass;
+    if (!backend->massProperties({&id, 1}, {&uniform, 1}, {&mass, 1})) return 1;  // warm-up
+    const double massMs = medianMs(15, [&] { (void)backend->massProperties({&id, 1}, {&uniform, 1}, {&mass, 1}); });
+    rows.push_back({name, renderer, "mass 1024^2 one body, uniform", 1, big.textures.size(), massMs, 15,
+                    name == "cpu" ? 0.0 : 16.0 * double(big.textures.size())});
+    TextureMassModel mapped;
+    mapped.texelDensity.assign(big.textures.size(), 900.0f);
+    const double mapMs = medianMs(15, [&] { (void)backend->massProperties({&id, 1}, {&mapped, 1}, {&mass, 1}); });
+    rows.push_back({name, renderer, "mass 1024^2 one body, density map uploaded", 1, big.textures.size(), mapMs, 15,
+                    name == "cpu" ? 0.0 : 20.0 * double(big.textures.size())});
+  }
+
+  std::printf("%-8s %-34s %-46s %8s %10s %12s %12s\n", "backend", "renderer", "what", "bodies", "texels", "median ms",
+              "floor ms");
+  for (const Row& r : rows) {
+    char floor[32] = "-";
+    if (r.bytesRead > 0.0) std::snprintf(floor, sizeof floor, "%.3f", 1e3 * r.bytesRead / bandwidth);
+    std::printf("%-8s %-34.34s %-46s %8zu %10zu %12.3f %12s\n", r.backend.c_str(), r.renderer.c_str(), r.what.c_str(),
+                r.bodies, r.texels, r.medianMs, floor);
+  }
+  std::printf("bandwidth for the floor: %.1f GB/s (%s)\n", bandwidth / 1e9, argc > 2 ? "given" : "measured host read");
+  if (answers.size() == 2) {
+    double worstVolume = 0.0, worstCentre = 0.0;
+    for (std::size_t i = 0; i < kBodies; ++i) {
+      const HydrostaticsResult& c = answers[0][i];
+      const HydrostaticsResult& g = answers[1][i];
+      if (c.submergedVolume > 0.0)
+        worstVolume = std::max(worstVolume, std::abs(g.submergedVolume - c.submergedVolume) / c.submergedVolume);
+      worstCentre = std::max(worstCentre, (g.centerOfBuoyancy - c.centerOfBuoyancy).norm() / 1.0);
+    }
+    std::printf("gpu vs cpu over the 1000 bodies: volume %.2e relative, centre of buoyancy %.2e of the size\n",
+                worstVolume, worstCentre);
+  }
+
+  FILE* csv = std::fopen(csvPath.c_str(), "w");
+  if (csv == nullptr) {
+    std::fprintf(stderr, "bench_gpu: cannot write %s\n", csvPath.c_str());
+    return 1;
+  }
+  std::fprintf(csv, "backend,renderer,what,bodies,texels,median_ms,runs,bytes_read,floor_ms\n");
+  for (const Row& r : rows)
+    std::fprintf(csv, "%s,\"%s\",\"%s\",%zu,%zu,%.4f,%d,%.0f,%.4f\n", r.backend.c_str(), r.renderer.c_str(), r.what.c_str(),
+                 r.bodies, r.texels, r.medianMs, r.runs, r.bytesRead, r.bytesRead > 0.0 ? 1e3 * r.bytesRead / bandwidth : 0.0);
+  std::fclose(csv);
+  return 0;
+}
