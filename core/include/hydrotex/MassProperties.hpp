@@ -57,7 +57,7 @@ class TextureMassIntegrator {
   Expected<MassProperties> evaluate(const TextureMassModel& model) const;
 
   /// Number of covered texels prepared.
-  std::size_t size() const { return volume_.size(); }
+  std::size_t size() const { return count_; }
   /// Enclosed volume (m^3): the sum of the cone volumes (exact up to float rounding).
   double volume() const { return totalVolume_; }
 

@@ -1,0 +1,105 @@
+#pragma once
+/// @file MassModel.hpp
+/// A body's mass model that may change while it moves (DESIGN.md "Mass model"; paper figure 13):
+/// solid density, shell areal density, a per-texel density map (replaceable at run time) and
+/// point masses (cargo, passengers) that may follow linear paths. Mass, centre of mass and the
+/// full inertia tensor come from one TextureMassIntegrator pass plus the point masses, and are
+/// recomputed only when something changed (revision counter).
+
+#include <cstdint>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/SurfaceBake.hpp"
+
+namespace hydrotex {
+
+/// One key of a point mass's path.
+struct PathKeyframe {
+  double time = 0.0;                                    ///< s (strictly increasing along a path)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();   ///< m, mesh frame
+};
+
+/// A concentrated mass (no inertia of its own): cargo, a passenger, a basket.
+struct PointMass {
+  double mass = 0.0;                                    ///< kg (>= 0)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();   ///< m, mesh frame (used when `path` is empty)
+  /// Optional path: linear between keys, held at the first key before it and at the last after it.
+  std::vector<PathKeyframe> path;
+  /// One line naming the first unusable value (negative mass, NaN, unordered keys), or Ok.
+  Status validate() const;
+};
+
+/// Position (m) on `path` at `time` (s): linear between keys, clamped at both ends. An empty
+/// path gives the origin.
+Eigen::Vector3d pathPosition(const std::vector<PathKeyframe>& path, double time);
+
+/// Mass model of one body, over its current surface textures. Not thread-safe; cheap to query.
+class MassModel {
+ public:
+  /// Prepares the texel pass for `textures` with cone apex `referencePoint` (m, mesh frame). The
+  /// model starts as a uniform solid of 1000 kg/m^3 with no shell and no point masses.
+  MassModel(const SurfaceTextures& textures, const Eigen::Vector3d& referencePoint);
+
+  /// Uniform solid density (kg/m^3) filling the enclosed volume, used where no density map is set
+  /// (0: hollow). Error for a negative or non-finite value.
+  Status setSolidDensity(double density);
+  /// Areal density of the surface (kg/m^2): hulls, buoys, balloon envelopes. Error when < 0 or NaN.
+  Status setShellDensity(double density);
+  /// Replaces the density map: one density (kg/m^3) per covered texel (SurfaceTextures order),
+  /// each filling the cone from the reference point to its texel. Empty: back to the uniform
+  /// solid. Error when the size is not the texel count or a density is negative or not finite.
+  Status setTexelDensity(std::vector<float> density);
+  /// Adds a point mass; returns its index. Error from PointMass::validate().
+  Expected<std::size_t> addPointMass(PointMass pointMass);
+  /// Moves point mass `index` to `position` (m, mesh frame) and drops its path.
+  Status setPointMassPosition(std::size_t index, const Eigen::Vector3d& position);
+  /// Changes the mass (kg) of point mass `index`.
+  Status setPointMassMass(std::size_t index, double mass);
+  /// Moves every point mass that has a path to its position at `time` (s). Changes nothing (no
+  /// new revision) when none moved.
+  void advanceTo(double time);
+  /// The surface moved (a deforming body): prepares the texel pass again for `textures`, which
+  /// must have as many texels as before when a density map is set.
+  Status setGeometry(const SurfaceTextures& textures);
+
+  /// Mass properties (mesh frame) of everything together. Runs the texel pass only when the
+  /// solid, shell, map or geometry changed since the last call, and combines the point masses
+  /// (parallel-axis theorem) only when anything changed; otherwise returns the cached answer.
+  /// Error when the total mass is not positive.
+  Expected<MassProperties> properties();
+
+  /// Increases by one with every change that alters the mass properties.
+  std::uint64_t revision() const { return revision_; }
+  /// Texel passes run so far (the expensive part).
+  std::uint64_t texelPasses() const { return texelPasses_; }
+  /// Times properties() combined the parts (any change), cheap compared to a texel pass.
+  std::uint64_t combinations() const { return combinations_; }
+  /// Point masses, in the order they were added.
+  const std::vector<PointMass>& pointMasses() const { return pointMasses_; }
+  /// Uniform solid density (kg/m^3).
+  double solidDensity() const { return distributed_.solidDensity; }
+  /// Shell areal density (kg/m^2).
+  double shellDensity() const { return distributed_.shellDensity; }
+  /// Enclosed volume (m^3) of the current geometry.
+  double volume() const { return integrator_.volume(); }
+  /// Number of covered texels (the size a density map must have).
+  std::size_t texelCount() const { return integrator_.size(); }
+
+ private:
+  TextureMassIntegrator integrator_;
+  Eigen::Vector3d referencePoint_;
+  TextureMassModel distributed_;
+  std::vector<PointMass> pointMasses_;
+  MassProperties distributedProperties_;
+  MassProperties combined_;
+  std::uint64_t revision_ = 1;
+  std::uint64_t distributedRevision_ = 1;  // revision of the last change to the texel part
+  std::uint64_t evaluatedDistributed_ = 0; // revision at which distributedProperties_ was computed
+  std::uint64_t evaluatedCombined_ = 0;    // revision at which combined_ was computed
+  std::uint64_t texelPasses_ = 0;
+  std::uint64_t combinations_ = 0;
+};
+
+}  // namespace hydrotex

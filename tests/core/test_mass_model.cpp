@@ -1,0 +1,167 @@
+// MassModel: solid, shell, density maps replaced at run time, point masses on paths, combined
+// with the parallel-axis theorem, and recomputed only when something changed.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "hydrotex/MassModel.hpp"
+#include "hydrotex/Primitives.hpp"
+#include "hydrotex/SurfaceBake.hpp"
+
+using namespace hydrotex;
+namespace prim = hydrotex::primitives;
+
+namespace {
+
+SurfaceTextures texturesOf(const Mesh& mesh, int resolution) {
+  BakeSettings settings;
+  settings.width = settings.height = resolution;
+  auto bake = bakeSurface(mesh, mesh.uv, settings);
+  REQUIRE(bake.ok());
+  return evaluateSurface(*bake, mesh, mesh.uv);
+}
+
+Eigen::Matrix3d steiner(double mass, const Eigen::Vector3d& r) {
+  return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+}
+
+}  // namespace
+
+TEST_CASE("mass model: a density map switched at run time to two hemispheres") {
+  const double r = 1.0;
+  // 64 x 32 sphere at 256^2: the equator (v = 1/2) lies on a texel border, no texel straddles it.
+  const Mesh sphere = prim::uvSphere(r, 64, 32);
+  const SurfaceTextures tex = texturesOf(sphere, 256);
+  MassModel model(tex, Eigen::Vector3d::Zero());
+  REQUIRE(model.setSolidDensity(1000.0).ok());
+  const auto uniform = model.properties();
+  REQUIRE(uniform.ok());
+  // Uniform solid: centre at the sphere's centre (symmetric texels: float rounding, 1e-6 r).
+  CHECK(uniform->centerOfMass.norm() < 1e-6 * r);
+
+  std::vector<float> map(model.texelCount());
+  for (std::size_t i = 0; i < map.size(); ++i) map[i] = tex.position[i].y() > 0.0f ? 1000.0f : 250.0f;
+  REQUIRE(model.setTexelDensity(map).ok());
+  const auto halves = model.properties();
+  INFO((halves.ok() ? std::string() : halves.error().message));
+  REQUIRE(halves.ok());
+  // Exact reference: the polyhedral hemispheres with the sphere's own rings (cones from the
+  // centre fill each half exactly, so the mass agrees to float rounding, 1e-6).
+  const auto up = polyhedralMassProperties(prim::hemisphere(r, 64, 16, true), 1000.0);
+  const auto down = polyhedralMassProperties(prim::hemisphere(r, 64, 16, false), 250.0);
+  REQUIRE((up.ok() && down.ok()));
+  const double mass = up->mass + down->mass;
+  const Eigen::Vector3d center = (up->mass * up->centerOfMass + down->mass * down->centerOfMass) / mass;
+  CHECK(halves->mass == Approx(mass).epsilon(1e-6));
+  // Centre: the texel cones' centroids, 1e-4 r at 256^2 (as the uniform integrator test).
+  CHECK((halves->centerOfMass - center).norm() < 1e-4 * r);
+  // Closed form of smooth hemispheres, 3r/8 (m1 - m2) / (m1 + m2), within the 64 x 32
+  // tessellation's error (inscribed polyhedron, 1e-2 relative).
+  CHECK(halves->centerOfMass.y() == Approx(3.0 * r / 8.0 * 750.0 / 1250.0).epsilon(1e-2));
+  const Eigen::Matrix3d inertia = up->inertia + steiner(up->mass, up->centerOfMass - center) + down->inertia +
+                                  steiner(down->mass, down->centerOfMass - center);
+  CHECK((halves->inertia - inertia).norm() / inertia.norm() < 1e-3);  // as the integrator's test at 256^2
+  CHECK(model.texelPasses() == 2);
+}
+
+TEST_CASE("mass model: point masses combine by the parallel-axis theorem and follow paths") {
+  const Eigen::Vector3d extents(2.0, 1.0, 1.5);
+  const Mesh box = prim::box(extents);
+  MassModel model(texturesOf(box, 64), Eigen::Vector3d::Zero());
+  REQUIRE(model.setSolidDensity(500.0).ok());
+  const auto solid = model.properties();
+  REQUIRE(solid.ok());
+  // A box is tiled exactly by its flat texels: mass to float rounding (1e-6), inertia 1e-5.
+  const double boxMass = 500.0 * extents.prod();
+  CHECK(solid->mass == Approx(boxMass).epsilon(1e-6));
+
+  PointMass cargo;
+  cargo.mass = 300.0;
+  cargo.path = {{0.0, {0.0, 0.5, 0.0}}, {2.0, {0.8, 0.5, 0.0}}, {3.0, {0.8, 0.5, 0.6}}};
+  REQUIRE(model.addPointMass(cargo).ok());
+  CHECK(pathPosition(cargo.path, -1.0).isApprox(Eigen::Vector3d(0.0, 0.5, 0.0)));
+  CHECK(pathPosition(cargo.path, 1.0).isApprox(Eigen::Vector3d(0.4, 0.5, 0.0)));
+  CHECK(pathPosition(cargo.path, 2.5).isApprox(Eigen::Vector3d(0.8, 0.5, 0.3)));
+  CHECK(pathPosition(cargo.path, 9.0).isApprox(Eigen::Vector3d(0.8, 0.5, 0.6)));
+
+  model.advanceTo(1.0);
+  const auto moved = model.properties();
+  REQUIRE(moved.ok());
+  const Eigen::Vector3d p(0.4, 0.5, 0.0);
+  // Combination in double of the texel part and the point mass: exact to 1e-12.
+  const double total = solid->mass + 300.0;
+  const Eigen::Vector3d center = (solid->mass * solid->centerOfMass + 300.0 * p) / total;
+  CHECK(moved->mass == Approx(total).epsilon(1e-12));
+  CHECK((moved->centerOfMass - center).norm() < 1e-12);
+  const Eigen::Matrix3d expected =
+      solid->inertia + steiner(solid->mass, solid->centerOfMass - center) + steiner(300.0, p - center);
+  CHECK((moved->inertia - expected).norm() < 1e-9 * expected.norm());
+  CHECK(model.texelPasses() == 1);  // only the point mass moved: no texel pass
+
+  REQUIRE(model.setPointMassPosition(0, Eigen::Vector3d(-0.5, 0.0, 0.0)).ok());
+  model.advanceTo(2.5);  // the path was dropped: stays where it was put
+  CHECK(model.pointMasses()[0].position.isApprox(Eigen::Vector3d(-0.5, 0.0, 0.0)));
+}
+
+TEST_CASE("mass model: nothing is recomputed when nothing changed") {
+  const Mesh box = prim::box({1.0, 1.0, 1.0});
+  MassModel model(texturesOf(box, 32), Eigen::Vector3d::Zero());
+  PointMass still;
+  still.mass = 10.0;
+  still.path = {{0.0, {0.1, 0.0, 0.0}}, {1.0, {0.2, 0.0, 0.0}}};
+  REQUIRE(model.addPointMass(still).ok());
+  REQUIRE(model.properties().ok());
+  const std::uint64_t revision = model.revision();
+  for (int i = 0; i < 10; ++i) {
+    model.advanceTo(2.0 + i);            // past the path's end: held at the last key
+    REQUIRE(model.setSolidDensity(1000.0).ok());  // the value it already has
+    REQUIRE(model.setShellDensity(0.0).ok());
+    REQUIRE(model.properties().ok());
+  }
+  // advanceTo(2) moved it once (from 0.1 to 0.2), then nothing.
+  CHECK(model.revision() == revision + 1);
+  CHECK(model.texelPasses() == 1);
+  CHECK(model.combinations() == 2);
+  REQUIRE(model.setShellDensity(2.0).ok());
+  REQUIRE(model.properties().ok());
+  CHECK(model.texelPasses() == 2);
+}
+
+TEST_CASE("mass model: a deformed surface changes the volume, the mass follows") {
+  const Mesh box = prim::box({1.0, 1.0, 1.0});
+  BakeSettings settings;
+  settings.width = settings.height = 32;
+  auto bake = bakeSurface(box, box.uv, settings);
+  REQUIRE(bake.ok());
+  MassModel model(evaluateSurface(*bake, box, box.uv), Eigen::Vector3d::Zero());
+  REQUIRE(model.setShellDensity(3.0).ok());
+  Mesh scaled = box;
+  for (Eigen::Vector3d& p : scaled.positions) p = p.cwiseProduct(Eigen::Vector3d(2.0, 1.0, 1.5));
+  REQUIRE(model.setGeometry(evaluateSurface(*bake, scaled, box.uv)).ok());
+  const auto after = model.properties();
+  REQUIRE(after.ok());
+  // 2 x 1 x 1.5 box: volume 3, area 2 (2 + 3 + 1.5) = 13; PT/VAT exact on flat texels (1e-6).
+  CHECK(model.volume() == Approx(3.0).epsilon(1e-6));
+  CHECK(after->mass == Approx(1000.0 * 3.0 + 3.0 * 13.0).epsilon(1e-6));
+}
+
+TEST_CASE("mass model: bad values are errors that name them") {
+  const Mesh box = prim::box({1.0, 1.0, 1.0});
+  MassModel model(texturesOf(box, 16), Eigen::Vector3d::Zero());
+  CHECK_FALSE(model.setSolidDensity(-1.0).ok());
+  CHECK_FALSE(model.setShellDensity(std::nan("")).ok());
+  CHECK_FALSE(model.setTexelDensity(std::vector<float>(3, 1.0f)).ok());
+  std::vector<float> negative(model.texelCount(), 1.0f);
+  negative[2] = -4.0f;
+  CHECK_FALSE(model.setTexelDensity(negative).ok());
+  PointMass unordered;
+  unordered.mass = 1.0;
+  unordered.path = {{1.0, Eigen::Vector3d::Zero()}, {0.5, Eigen::Vector3d::Zero()}};
+  const auto added = model.addPointMass(unordered);
+  REQUIRE_FALSE(added.ok());
+  CHECK(added.error().message.find("path[1]") != std::string::npos);
+  CHECK_FALSE(model.setPointMassPosition(4, Eigen::Vector3d::Zero()).ok());
+  REQUIRE(model.setSolidDensity(0.0).ok());
+  CHECK_FALSE(model.properties().ok());  // nothing left: zero mass
+}
