@@ -1,0 +1,188 @@
+// The advisor (Advisor.hpp): its sample of poses against closed forms, its error measures, and
+// that the advice it gives holds at poses it did not sample.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "hydrotex/Advisor.hpp"
+#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/PolyhedralHydrostatics.hpp"
+#include "hydrotex/Primitives.hpp"
+
+using namespace hydrotex;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Fast timing: these tests check what is measured, not how fast.
+AdvisorSettings quickSettings() {
+  AdvisorSettings settings;
+  settings.timing.runs = 3;
+  settings.timing.batchSeconds = 0.002;
+  return settings;
+}
+
+/// Worst errors of the texture path at `resolution` against the exact path over `sampling`.
+HydrostaticsErrors textureErrors(const Mesh& mesh, int resolution, const QuerySampling& sampling) {
+  BodyGeometrySettings settings;
+  settings.bake.width = settings.bake.height = resolution;
+  Expected<BodyGeometry> body = prepareBodyGeometry(mesh, settings);
+  REQUIRE(body);
+  Expected<TextureHydrostatics> texture = TextureHydrostatics::build(body->bake, body->textures);
+  REQUIRE(texture);
+  const FlatSurface water(0.0);
+  ErrorScales scales;
+  scales.totalVolume = polyhedralMassProperties(mesh, 1.0)->volume;
+  scales.size = meshSize(mesh);
+  HydrostaticsErrors worst;
+  for (const HydrostaticsQuery& query : sampleHydrostaticsQueries(mesh, sampling)) {
+    Expected<HydrostaticsResult> exact = polyhedralHydrostatics(mesh, water, query);
+    Expected<HydrostaticsResult> approx = texture->query(water, query);
+    REQUIRE(exact);
+    REQUIRE(approx);
+    worst.keepMax(hydrostaticsErrors(*approx, *exact, scales));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("the sampled poses put the water at the stated fractions of the body's height", "[advisor]") {
+  const double radius = 1.0;
+  const Mesh sphere = primitives::uvSphere(radius, 96, 48);
+  QuerySampling sampling;
+  sampling.depthCount = 3;
+  sampling.orientationCount = 2;
+  const std::vector<HydrostaticsQuery> queries = sampleHydrostaticsQueries(sphere, sampling);
+  REQUIRE(queries.size() == 6);
+  const FlatSurface water(0.0);
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    // Water at (k + 1) / 4 of the height: a cap of depth d = 2 r (k + 1) / 4, V = pi d^2 (3r - d) / 3
+    // (REFERENCES.md). The mesh is a polyhedron inscribed in the sphere: its volume is short by
+    // about (2 pi / 96)^2 / 2 = 0.2 %, so 1 % of the sphere's volume bounds the difference.
+    const double depth = 2.0 * radius * double(i % 3 + 1) / 4.0;
+    const double cap = kPi * depth * depth * (3.0 * radius - depth) / 3.0;
+    Expected<HydrostaticsResult> exact = polyhedralHydrostatics(sphere, water, queries[i]);
+    REQUIRE(exact);
+    CHECK(exact->submergedVolume == Approx(cap).margin(0.01 * 4.0 / 3.0 * kPi));
+  }
+  CHECK(meshSize(sphere) == Approx(2.0 * std::sqrt(3.0)).epsilon(1e-9));  // the bounding cube's diagonal
+  CHECK(sampleHydrostaticsQueries(sphere, QuerySampling{0, 1}).empty());
+  CHECK(sampleHydrostaticsQueries(sphere, QuerySampling{1, 9}).empty());
+  CHECK(sampleHydrostaticsQueries(Mesh{}, QuerySampling{}).empty());
+}
+
+TEST_CASE("error measures are the stated ratios", "[advisor]") {
+  HydrostaticsResult reference, answer;
+  reference.submergedVolume = 1.0;
+  answer.submergedVolume = 1.1;
+  reference.centerOfBuoyancy = Eigen::Vector3d(0, -0.5, 0);
+  answer.centerOfBuoyancy = Eigen::Vector3d(0.03, -0.46, 0);  // 0.05 m away
+  reference.buoyancyForce = Eigen::Vector3d(0, 1000 * 9.81, 0);
+  answer.buoyancyForce = Eigen::Vector3d(0, 1100 * 9.81, 0);
+  ErrorScales scales{2.0, 10.0, 1000.0, 9.81};
+  const HydrostaticsErrors errors = hydrostaticsErrors(answer, reference, scales);
+  CHECK(errors.volume == Approx(0.05));           // 0.1 m^3 of 2 m^3
+  CHECK(errors.centerOfBuoyancy == Approx(0.005));// 0.05 m of 10 m
+  CHECK(errors.force == Approx(0.05));            // 100 g N of rho g 2 m^3
+  CHECK(errors.worst() == Approx(0.05));
+
+  MassProperties exact, approx;
+  exact.mass = 4.0;
+  approx.mass = 3.0;
+  exact.centerOfMass = Eigen::Vector3d(1, 0, 0);
+  approx.centerOfMass = Eigen::Vector3d(1, 0.2, 0);
+  exact.inertia = Eigen::Matrix3d::Identity() * 2.0;
+  approx.inertia = Eigen::Matrix3d::Identity() * 2.2;
+  const MassErrors mass = massErrors(approx, exact, 4.0);
+  CHECK(mass.mass == Approx(0.25));
+  CHECK(mass.centerOfMass == Approx(0.05));
+  CHECK(mass.inertia == Approx(0.1));
+}
+
+TEST_CASE("texture errors fall with resolution", "[advisor]") {
+  // The waterline term is O(texel size): four times the resolution must cut the worst error by
+  // well over half; a factor 2 leaves room for how the texel grid meets the waterline.
+  const Mesh sphere = primitives::uvSphere(1.0, 64, 32);
+  const QuerySampling sampling{3, 3};
+  const HydrostaticsErrors coarse = textureErrors(sphere, 32, sampling);
+  const HydrostaticsErrors fine = textureErrors(sphere, 128, sampling);
+  INFO("coarse " << coarse.worst() << " fine " << fine.worst());
+  CHECK(fine.worst() < coarse.worst() / 2.0);
+  CHECK(fine.force < coarse.force / 2.0);
+}
+
+TEST_CASE("advice meets the target, is the cheapest resolution, and holds at unsampled poses", "[advisor]") {
+  const Mesh sphere = primitives::uvSphere(1.0, 128, 64);  // 16k triangles: the exact path is not free
+  AdvisorSettings settings = quickSettings();
+  settings.resolutions = {32, 64, 128, 256};
+  const double target = 2e-4;  // between the 64^2 and 128^2 errors of this sphere (about 2.5e-4 and 7e-5)
+  Expected<Advice> advice = adviseHydrostatics(sphere, target, settings);
+  REQUIRE(advice);
+  REQUIRE(!advice->candidates.empty());
+  CHECK(advice->candidates.front().method == HydrostaticsMethod::Exact);
+  CHECK(advice->candidates.front().maxErrors.worst() == 0.0);
+  CHECK(advice->best.maxErrors.worst() <= target);
+  for (const MethodMeasurement& candidate : advice->candidates) {
+    CHECK(candidate.microsecondsPerQuery > 0.0);
+    CHECK(candidate.bytes > 0);
+    if (candidate.maxErrors.worst() <= target) CHECK(candidate.microsecondsPerQuery >= advice->best.microsecondsPerQuery);
+  }
+  if (advice->best.method != HydrostaticsMethod::Exact) {
+    // Cheapest: the next lower resolution misses the target (over the same sample).
+    if (advice->best.resolution > 32) {
+      const HydrostaticsErrors lower = textureErrors(sphere, advice->best.resolution / 2, settings.sampling);
+      CHECK(lower.worst() > target);
+    }
+    // Holds elsewhere: 7 depths and 8 orientations, most of them not sampled. Errors vary
+    // smoothly with the pose, so the sampled maximum bounds them within a small factor (2).
+    const HydrostaticsErrors elsewhere = textureErrors(sphere, advice->best.resolution, QuerySampling{7, 8});
+    CHECK(elsewhere.worst() <= 2.0 * target);
+  }
+}
+
+TEST_CASE("a target no texture resolution reaches picks the exact path", "[advisor]") {
+  const Mesh box = primitives::box(Eigen::Vector3d(2.0, 1.0, 0.5));
+  AdvisorSettings settings = quickSettings();
+  settings.resolutions = {32, 64};
+  settings.includeBruteForce = true;
+  Expected<Advice> advice = adviseHydrostatics(box, 1e-14, settings);
+  REQUIRE(advice);
+  CHECK(advice->best.method == HydrostaticsMethod::Exact);
+  CHECK(advice->best.resolution == 0);
+  CHECK(methodName(advice->best.method) == "exact");
+}
+
+TEST_CASE("the advisor rejects bad targets, open meshes and bad settings with a message", "[advisor]") {
+  const Mesh box = primitives::box(Eigen::Vector3d(1.0, 1.0, 1.0));
+  const AdvisorSettings settings = quickSettings();
+  for (double target : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    Expected<Advice> advice = adviseHydrostatics(box, target, settings);
+    REQUIRE(!advice);
+    CHECK(advice.error().message.find("target error") != std::string::npos);
+  }
+  Mesh open = box;
+  open.triangles.pop_back();
+  Expected<Advice> openAdvice = adviseHydrostatics(open, 0.01, settings);
+  CHECK(!openAdvice);
+
+  AdvisorSettings tiny = settings;
+  tiny.resolutions = {8};
+  Expected<Advice> tinyAdvice = adviseHydrostatics(box, 0.01, tiny);
+  REQUIRE(!tinyAdvice);
+  CHECK(tinyAdvice.error().message.find("resolution 8") != std::string::npos);
+
+  AdvisorSettings badSampling = settings;
+  badSampling.sampling.orientationCount = 0;
+  CHECK(!adviseHydrostatics(box, 0.01, badSampling));
+}
+
+TEST_CASE("timing reports a positive median per call", "[advisor]") {
+  int calls = 0;
+  const double seconds = medianSecondsPerCall([&] { ++calls; }, TimingSettings{3, 0.001});
+  CHECK(seconds > 0.0);
+  CHECK(std::isfinite(seconds));
+  CHECK(calls >= 2 + 3);  // warm-up, probe, then at least one call per run
+}
