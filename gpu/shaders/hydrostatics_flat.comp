@@ -103,13 +103,22 @@ void main() {
   uint lane = gl_LocalInvocationID.x;
   for (int k = 0; k < kSums; ++k) reduction[k][lane] = sums[k];
   barrier();
-  for (uint stride = kGroup / 2u; stride > 0u; stride >>= 1u) {
-    if (lane < stride)
-      for (int k = 0; k < kSums; ++k) reduction[k][lane] += reduction[k][lane + stride];
-    barrier();
-  }
+  // Two levels (32 lanes sum 8 values each, then one lane sums 32) instead of a tree of 8 barriers:
+  // Quirk (llvmpipe): every barrier switches all 256 invocations' coroutines, which dominated the
+  // pass; on a GPU the two levels cost about the same as the tree.
+  if (lane < 32u)
+    for (int k = 0; k < kSums; ++k) {
+      float sum = 0.0;
+      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][lane + 32u * j];
+      reduction[k][lane] = sum;
+    }
+  barrier();
   if (lane == 0u) {
-    for (int k = 0; k < kSums; ++k) partials[chunkIndex].value[k] = reduction[k][0];
+    for (int k = 0; k < kSums; ++k) {
+      float sum = 0.0;
+      for (uint j = 0u; j < 32u; ++j) sum += reduction[k][j];
+      partials[chunkIndex].value[k] = sum;
+    }
     partials[chunkIndex].value[11] = 0.0;
   }
 }

@@ -48,16 +48,34 @@ void main() {
   }
   for (int k = 0; k < 12; ++k) reduction[k][lane] = s[k];
   barrier();
-  for (uint stride = kGroup / 2u; stride > 0u; stride >>= 1u) {
-    if (lane < stride) {
-      for (int k = 0; k < 11; ++k) reduction[k][lane] += reduction[k][lane + stride];
-      // Not min(): a NaN density must not vanish (min's NaN behaviour is undefined); the NaN
-      // also reaches the mass, which the host checks.
-      float other = reduction[11][lane + stride];
-      if (!(other >= reduction[11][lane])) reduction[11][lane] = other;
+  // Two levels, as in hydrostatics_flat.comp (llvmpipe's barrier cost). The lowest density is not
+  // taken with min(): a NaN density must not vanish (min's NaN result is undefined); the NaN also
+  // reaches the mass, which the host checks.
+  if (lane < 32u) {
+    for (int k = 0; k < 11; ++k) {
+      float sum = 0.0;
+      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][lane + 32u * j];
+      reduction[k][lane] = sum;
     }
-    barrier();
+    float lowest = reduction[11][lane];
+    for (uint j = 1u; j < 8u; ++j) {
+      float other = reduction[11][lane + 32u * j];
+      if (!(other >= lowest)) lowest = other;
+    }
+    reduction[11][lane] = lowest;
   }
-  if (lane == 0u)
-    for (int k = 0; k < 12; ++k) partials[chunkIndex].value[k] = reduction[k][0];
+  barrier();
+  if (lane == 0u) {
+    for (int k = 0; k < 11; ++k) {
+      float sum = 0.0;
+      for (uint j = 0u; j < 32u; ++j) sum += reduction[k][j];
+      partials[chunkIndex].value[k] = sum;
+    }
+    float lowest = reduction[11][0];
+    for (uint j = 1u; j < 32u; ++j) {
+      float other = reduction[11][j];
+      if (!(other >= lowest)) lowest = other;
+    }
+    partials[chunkIndex].value[11] = lowest;
+  }
 }
