@@ -10,6 +10,7 @@
 #include "BulletEigen.hpp"
 #include "FloatingBody.hpp"
 #include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/ImageMap.hpp"
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/PolyhedralHydrostatics.hpp"
 
@@ -151,11 +152,14 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   Expected<MassProperties> unitDensity = polyhedralMassProperties(mesh, 1.0);
   if (!unitDensity) return unitDensity.error();
   if (!(unitDensity->volume > 0.0)) return Error{"mesh: encloses no volume"};
+  const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
   double density = 0.0;
   if (settings.density) {
     density = *settings.density;
   } else if (settings.mass) {
     density = *settings.mass / unitDensity->volume;
+  } else if (hollowAllowed) {
+    density = 0.0;  // the shell or the map carries the mass
   } else if (body->getInvMass() > btScalar(0)) {
     density = (1.0 / double(body->getInvMass())) / unitDensity->volume;
   } else {
@@ -171,7 +175,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     upper = upper.cwiseMax(p);
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
-  const bool needsBake = settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag);
+  const bool deforming = settings.effects.has(Effect::Deformation);
+  const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
+                              settings.effects.has(Effect::VariableMass) || deforming;
+  const bool needsBake =
+      settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
+  floating->boundsCenter = 0.5 * (lower + upper);
   if (needsBake) {
     BodyGeometrySettings geometrySettings;
     geometrySettings.bake.width = settings.resolution;
@@ -190,9 +199,35 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                                                          settings.dragPatchRadiusFraction * referenceLength);
       for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
     }
+    if (wantsMassModel) {
+      // Mass model (DESIGN.md "Mass model"): cones from the bounding box's centre.
+      MassModel& model = floating->massModel.emplace(geometry->textures, floating->boundsCenter);
+      if (Status s = model.setSolidDensity(density); !s) return Error{"density: " + s.error().message};
+      if (Status s = model.setShellDensity(settings.shellDensity); !s) return Error{"shellDensity: " + s.error().message};
+      if (settings.densityMap) {
+        std::vector<float> texelDensity = resampleToTexels(*settings.densityMap, geometry->bake);
+        const double low = settings.densityRange[0], high = settings.densityRange[1];
+        for (float& value : texelDensity) value = float(low + double(value) * (high - low));
+        if (Status s = model.setTexelDensity(std::move(texelDensity)); !s) return Error{"densityMap: " + s.error().message};
+      }
+      for (std::size_t i = 0; i < settings.pointMasses.size(); ++i) {
+        if (Expected<std::size_t> added = model.addPointMass(settings.pointMasses[i]); !added) {
+          return Error{"pointMasses[" + std::to_string(i) + "]: " + added.error().message};
+        }
+      }
+      model.advanceTo(time_);
+    }
+    if (deforming) {
+      auto state = std::make_unique<DeformationState>();
+      state->rest = mesh;
+      state->current = std::make_shared<Mesh>(mesh);
+      state->bake = std::move(geometry->bake);
+      state->layout = std::move(geometry->atlas.layout);
+      state->textures = std::move(geometry->textures);
+      floating->deformation = std::move(state);
+    }
   }
 
-  floating->boundsCenter = 0.5 * (lower + upper);
   floating->boundsRadius = 0.5 * (upper - lower).norm();
   floating->referenceLength = referenceLength;
 
@@ -214,7 +249,20 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
 
   FloatingBody& registered = *floating;
   bodies_.push_back(std::move(floating));
-  if (Status s = setMassProperties(body, props); !s) {
+  if (registered.deformation) {
+    registered.mesh = registered.deformation->current;
+    deform(registered);  // the pose at the current time, collision shape included
+  }
+  if (registered.massModel) {
+    Expected<MassProperties> modelled = registered.massModel->properties();
+    if (!modelled) {
+      removeBody(body);
+      return modelled.error();
+    }
+    props = *modelled;
+    registered.appliedMassRevision = registered.massModel->revision();
+  }
+  if (Status s = applyMassProperties(registered, props); !s) {
     removeBody(body);
     return s;
   }
@@ -244,8 +292,22 @@ bool BuoyancyController::removeBody(btRigidBody* body) {
 }
 
 Status BuoyancyController::setMassProperties(btRigidBody* body, const MassProperties& massProperties) {
+  FloatingBody* found = find(body);
+  if (found == nullptr) return Error{"body: not registered"};
+  return applyMassProperties(*found, massProperties);
+}
+
+MassModel* BuoyancyController::massModel(const btRigidBody* body) {
   FloatingBody* floating = find(body);
-  if (floating == nullptr) return Error{"body: not registered"};
+  if (floating == nullptr || !floating->massModel) return nullptr;
+  const EffectSet effects = floating->settings.effects;
+  if (!effects.has(Effect::VariableMass) && !effects.has(Effect::Deformation)) return nullptr;
+  return &*floating->massModel;
+}
+
+Status BuoyancyController::applyMassProperties(FloatingBody& found, const MassProperties& massProperties) {
+  FloatingBody* floating = &found;
+  btRigidBody* body = floating->body;
   if (!(std::isfinite(massProperties.mass) && massProperties.mass > 0.0)) {
     return Error{"mass: must be positive and finite"};
   }
@@ -311,6 +373,12 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   const FloatingBodySettings& settings = floating.settings;
   const EffectSet effects = settings.effects;
   const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
+
+  // Variable mass and deformation first: the forces below must see this step's body.
+  if (floating.deformation) deform(floating);
+  if (floating.massModel && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
+    followMassModel(floating);
+  }
 
   // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
   if (!body->isActive() && still) {
@@ -502,6 +570,73 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
 
   body->setLinearVelocity(toBullet(Eigen::Vector3d(next.head<3>())));
   body->setAngularVelocity(toBullet(Eigen::Vector3d(next.tail<3>())));
+}
+
+void BuoyancyController::followMassModel(FloatingBody& floating) {
+  MassModel& model = *floating.massModel;
+  model.advanceTo(time_);
+  if (model.revision() == floating.appliedMassRevision) return;  // nothing changed: nothing recomputed
+  const std::uint64_t passesBefore = model.texelPasses();
+  Expected<MassProperties> properties = model.properties();
+  floating.appliedMassRevision = model.revision();
+  ++statistics_.massUpdates;
+  statistics_.massTexelPasses += model.texelPasses() - passesBefore;
+  // A model that cannot be handed to Bullet (no mass left, a flat inertia) keeps the last one.
+  if (!properties || !applyMassProperties(floating, *properties)) {
+    ++statistics_.failedQueries;
+    return;
+  }
+  floating.body->activate(true);
+}
+
+void BuoyancyController::deform(FloatingBody& floating) {
+  DeformationState& state = *floating.deformation;
+  const FloatingBodySettings& settings = floating.settings;
+  std::vector<Eigen::Vector3d>& positions = state.current->positions;
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  if (settings.deformation) {
+    state.positions = state.rest.positions;
+    settings.deformation(time_, state.rest, state.positions);
+    if (state.positions.size() != positions.size() || !std::all_of(state.positions.begin(), state.positions.end(),
+                                                                    [](const Eigen::Vector3d& p) { return p.allFinite(); })) {
+      ++statistics_.failedQueries;  // a callback that broke the topology: keep the last shape
+      return;
+    }
+    positions.swap(state.positions);
+  } else {
+    scale = scaleAt(settings.scaleKeyframes, time_);
+    for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = state.rest.positions[i].cwiseProduct(scale);
+  }
+  ++statistics_.deformations;
+  // PT/VAT from the moved vertices through the kept texel pieces (DESIGN.md "Exact texels").
+  state.textures = evaluateSurface(state.bake, *state.current, state.layout);
+  if (floating.texture) {
+    Expected<TextureHydrostatics> rebuilt = TextureHydrostatics::build(state.bake, state.textures);
+    if (rebuilt) {
+      *floating.texture = std::move(rebuilt).value();
+    } else {
+      ++statistics_.failedQueries;
+    }
+  }
+  if (floating.massModel && !floating.massModel->setGeometry(state.textures)) ++statistics_.failedQueries;
+  if (settings.effects.has(Effect::Drag)) {
+    floating.dragPatches = mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
+                                                      settings.dragPatchRadiusFraction * floating.referenceLength);
+    floating.totalDragPatchArea = 0.0;
+    for (const DragPatch& patch : floating.dragPatches) floating.totalDragPatchArea += patch.area;
+  }
+  Eigen::Vector3d lower = positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  floating.boundsCenter = 0.5 * (lower + upper);
+  floating.boundsRadius = 0.5 * (upper - lower).norm();
+  if (!settings.scaleKeyframes.empty() && floating.compound) {
+    floating.originalShape->setLocalScaling(toBullet(scale));
+    floating.compound->recalculateLocalAabb();
+    if (floating.body->getBroadphaseHandle() != nullptr) world_.updateSingleAabb(floating.body);
+  }
 }
 
 void BuoyancyController::debugDraw(btIDebugDraw* debugDrawer) {

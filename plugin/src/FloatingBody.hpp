@@ -8,12 +8,24 @@
 #include <optional>
 #include <vector>
 
+#include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
+#include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 namespace hydrotex::bullet {
+
+/// What a deforming body keeps to re-evaluate its surface every step (only for Effect::Deformation).
+struct DeformationState {
+  Mesh rest;                            ///< the mesh as registered (mesh frame, m)
+  std::shared_ptr<Mesh> current;        ///< moved vertices, same topology (FloatingBody::mesh points here)
+  SurfaceBake bake;                     ///< exact texel pieces, kept from registration (no re-rasterizing)
+  UvLayout layout;                      ///< the physics atlas the bake was made with
+  SurfaceTextures textures;             ///< PT/VAT of the current vertices
+  std::vector<Eigen::Vector3d> positions;  ///< scratch for the deformation function
+};
 
 /// One registered body.
 struct FloatingBody {
@@ -30,6 +42,9 @@ struct FloatingBody {
   double boundsRadius = 0.0;                    ///< m, sphere around boundsCenter holding the mesh
   double referenceLength = 1.0;                 ///< m, largest extent (Reynolds number, debug arrows)
   FloatingBodyReport report;                    ///< last step
+  std::optional<MassModel> massModel;           ///< only with a shell, map, point masses, variable mass or deformation
+  std::uint64_t appliedMassRevision = 0;        ///< massModel revision last handed to Bullet
+  std::unique_ptr<DeformationState> deformation; ///< only with Effect::Deformation
   // The controller integrates gravity itself (see BuoyancyController::addBody): these restore it.
   bool usesWorldGravity = true;                 ///< the body followed the world's gravity before
   btVector3 ownGravity{0, 0, 0};                ///< m/s^2, its own gravity when it did not

@@ -35,6 +35,18 @@ std::string_view effectName(Effect effect) {
   return "unknown";
 }
 
+Eigen::Vector3d scaleAt(const std::vector<ScaleKeyframe>& keyframes, double time) {
+  if (keyframes.empty()) return Eigen::Vector3d::Ones();
+  if (!(time > keyframes.front().time)) return keyframes.front().scale;
+  if (time >= keyframes.back().time) return keyframes.back().scale;
+  std::size_t next = 1;
+  while (keyframes[next].time <= time) ++next;
+  const ScaleKeyframe& a = keyframes[next - 1];
+  const ScaleKeyframe& b = keyframes[next];
+  const double s = (time - a.time) / (b.time - a.time);
+  return a.scale + s * (b.scale - a.scale);
+}
+
 Status FloatingBodySettings::validate() const {
   if (!mesh && meshPath.empty()) return Error{"mesh: neither a mesh nor a mesh file is given"};
   if (mesh && mesh->triangles.empty()) return Error{"mesh: the mesh has no triangles"};
@@ -48,7 +60,35 @@ Status FloatingBodySettings::validate() const {
   if (mass && !(std::isfinite(*mass) && *mass > 0.0)) {
     return Error{"mass: " + std::to_string(*mass) + " kg must be positive and finite"};
   }
-  for (Effect reserved : {Effect::VariableMass, Effect::Flooding, Effect::Deformation, Effect::Wetting}) {
+  if (!finiteNonNegative(shellDensity)) return Error{"shellDensity: must be >= 0 and finite"};
+  if (densityMap) {
+    if (densityMap->values.empty()) return Error{"densityMap: empty image"};
+    if (!finiteNonNegative(densityRange[0]) || !finiteNonNegative(densityRange[1])) {
+      return Error{"densityRange: both densities must be >= 0 and finite"};
+    }
+  }
+  for (std::size_t i = 0; i < pointMasses.size(); ++i) {
+    if (Status s = pointMasses[i].validate(); !s) {
+      return Error{"pointMasses[" + std::to_string(i) + "]: " + s.error().message};
+    }
+  }
+  if (effects.has(Effect::Deformation)) {
+    if (!deformation && scaleKeyframes.empty()) {
+      return Error{"deformation: the effect needs a deformation function or scale keyframes"};
+    }
+    if (deformation && !scaleKeyframes.empty()) return Error{"deformation: give a function or scale keyframes, not both"};
+    if (method != HydrostaticsMethod::Texture) return Error{"deformation: needs the texture method"};
+  }
+  for (std::size_t i = 0; i < scaleKeyframes.size(); ++i) {
+    const ScaleKeyframe& key = scaleKeyframes[i];
+    if (!std::isfinite(key.time) || !key.scale.allFinite() || !(key.scale.minCoeff() > 0.0)) {
+      return Error{"scaleKeyframes[" + std::to_string(i) + "]: time must be finite and scales positive"};
+    }
+    if (i > 0 && !(key.time > scaleKeyframes[i - 1].time)) {
+      return Error{"scaleKeyframes[" + std::to_string(i) + "]: time must be after the previous key's"};
+    }
+  }
+  for (Effect reserved : {Effect::Flooding, Effect::Wetting}) {
     if (effects.has(reserved)) {
       return Error{"effects: '" + std::string(effectName(reserved)) + "' is not available yet"};
     }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "BulletEigen.hpp"
+#include "hydrotex/ImageMap.hpp"
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/Pose.hpp"
 
@@ -187,8 +188,103 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
       body.effects.add(*effect);
     }
   }
+  HYDROTEX_TRY(reader.number("shell_density", body.shellDensity));
+  if (!(body.shellDensity >= 0.0)) return reader.error("shell_density", "must be >= 0 (kg/m^2)");
+  std::string densityMap;
+  HYDROTEX_TRY(reader.string("density_map", densityMap));
+  const Json* range = reader.find("density_range");
+  if (!densityMap.empty()) {
+    const std::filesystem::path mapPath = std::filesystem::path(baseDirectory) / densityMap;
+    Expected<ImageMap> image = loadImageMap(mapPath.string());
+    if (!image) return reader.error("density_map", image.error().message);
+    body.densityMap = std::make_shared<const ImageMap>(std::move(image).value());
+    if (range == nullptr) return reader.error("density_range", "missing ([min, max] kg/m^3 for black and white)");
+  }
+  if (range != nullptr) {
+    if (densityMap.empty()) return reader.error("density_range", "given without density_map");
+    if (!range->is_array() || range->size() != 2 || !(*range)[0].is_number() || !(*range)[1].is_number()) {
+      return reader.error("density_range", "expected [min, max] (kg/m^3)");
+    }
+    body.densityRange = {(*range)[0].get<double>(), (*range)[1].get<double>()};
+    if (!(body.densityRange[0] >= 0.0 && body.densityRange[1] >= 0.0) || !std::isfinite(body.densityRange[0]) ||
+        !std::isfinite(body.densityRange[1])) {
+      return reader.error("density_range", "densities must be >= 0 and finite");
+    }
+  }
+  if (const Json* points = reader.find("point_masses")) {
+    if (!points->is_array()) return reader.error("point_masses", "expected an array of {mass, position, path}");
+    for (std::size_t i = 0; i < points->size(); ++i) {
+      const std::string pointPath = reader.keyPath("point_masses") + "[" + std::to_string(i) + "]";
+      const Json& item = (*points)[i];
+      if (!item.is_object()) return Error{source + ": " + pointPath + ": expected an object"};
+      ObjectReader pointReader(item, pointPath, source);
+      PointMass point;
+      if (item.find("mass") == item.end()) return pointReader.error("mass", "missing (kg)");
+      HYDROTEX_TRY(pointReader.number("mass", point.mass));
+      if (!(point.mass >= 0.0)) return pointReader.error("mass", "must be >= 0 (kg)");
+      HYDROTEX_TRY(pointReader.vector<3>("position", point.position));
+      if (const Json* keys = pointReader.find("path")) {
+        if (!keys->is_array()) return pointReader.error("path", "expected an array of [t, x, y, z]");
+        for (std::size_t k = 0; k < keys->size(); ++k) {
+          const Json& key = (*keys)[k];
+          const std::string keyName = "path[" + std::to_string(k) + "]";
+          if (!key.is_array() || key.size() != 4) return pointReader.error(keyName, "expected [t, x, y, z]");
+          double values[4];
+          for (std::size_t c = 0; c < 4; ++c) {
+            if (!key[c].is_number()) return pointReader.error(keyName, "expected [t, x, y, z]");
+            values[c] = key[c].get<double>();
+            if (!std::isfinite(values[c])) return pointReader.error(keyName, "not finite");
+          }
+          if (k > 0 && !(values[0] > point.path.back().time)) {
+            return pointReader.error(keyName, "time must be after the previous key's");
+          }
+          point.path.push_back({values[0], Eigen::Vector3d(values[1], values[2], values[3])});
+        }
+        if (point.path.empty()) return pointReader.error("path", "expected at least one key");
+      }
+      HYDROTEX_TRY(pointReader.rejectUnknown());
+      body.pointMasses.push_back(std::move(point));
+    }
+  }
+  if (const Json* deform = reader.find("deform")) {
+    const std::string deformPath = reader.keyPath("deform");
+    if (!deform->is_object()) return reader.error("deform", "expected {type: \"scale\", keyframes: [...]}");
+    ObjectReader deformReader(*deform, deformPath, source);
+    std::string type;
+    HYDROTEX_TRY(deformReader.string("type", type));
+    if (type != "scale") return deformReader.error("type", "'" + type + "' is not one of scale");
+    const Json* keys = deformReader.find("keyframes");
+    if (keys == nullptr || !keys->is_array() || keys->empty()) {
+      return deformReader.error("keyframes", "expected a non-empty array of [t, sx, sy, sz]");
+    }
+    for (std::size_t k = 0; k < keys->size(); ++k) {
+      const Json& key = (*keys)[k];
+      const std::string keyName = "keyframes[" + std::to_string(k) + "]";
+      if (!key.is_array() || key.size() != 4) return deformReader.error(keyName, "expected [t, sx, sy, sz]");
+      double values[4];
+      for (std::size_t c = 0; c < 4; ++c) {
+        if (!key[c].is_number()) return deformReader.error(keyName, "expected [t, sx, sy, sz]");
+        values[c] = key[c].get<double>();
+        if (!std::isfinite(values[c])) return deformReader.error(keyName, "not finite");
+      }
+      if (!(values[1] > 0.0 && values[2] > 0.0 && values[3] > 0.0)) return deformReader.error(keyName, "scales must be > 0");
+      if (k > 0 && !(values[0] > body.scaleKeyframes.back().time)) {
+        return deformReader.error(keyName, "time must be after the previous key's");
+      }
+      body.scaleKeyframes.push_back({values[0], Eigen::Vector3d(values[1], values[2], values[3])});
+    }
+    HYDROTEX_TRY(deformReader.rejectUnknown());
+    if (!body.effects.has(Effect::Deformation)) {
+      return reader.error("deform", "needs \"deformation\" in effects");
+    }
+  } else if (body.effects.has(Effect::Deformation)) {
+    return reader.error("effects", "'deformation' needs a deform key");
+  }
   HYDROTEX_TRY(reader.rejectUnknown());
-  if (!body.density && !body.mass) return Error{source + ": " + path + ": needs density or mass"};
+  const bool hollow = body.shellDensity > 0.0 || body.densityMap != nullptr;
+  if (!body.density && !body.mass && !hollow) {
+    return Error{source + ": " + path + ": needs density or mass (or a shell_density or density_map)"};
+  }
   if (body.density && body.mass) return Error{source + ": " + path + ": give density or mass, not both"};
   if (body.density && !(*body.density > 0.0)) return reader.error("density", "must be > 0");
   if (body.mass && !(*body.mass > 0.0)) return reader.error("mass", "must be > 0");
@@ -347,6 +443,11 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     settings.density = sceneBody.density;
     settings.mass = sceneBody.mass;
     settings.effects = sceneBody.effects;
+    settings.shellDensity = sceneBody.shellDensity;
+    settings.densityMap = sceneBody.densityMap;
+    settings.densityRange = sceneBody.densityRange;
+    settings.pointMasses = sceneBody.pointMasses;
+    settings.scaleKeyframes = sceneBody.scaleKeyframes;
     if (Status s = self->controller_->addBody(body.get(), settings); !s) return Error{prefix + s.error().message};
     body->setLinearVelocity(toBullet(sceneBody.linearVelocity));
     body->setAngularVelocity(toBullet(sceneBody.angularVelocity));

@@ -14,6 +14,7 @@
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Hydrostatics.hpp"
 #include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/MassModel.hpp"
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 
@@ -58,6 +59,9 @@ struct ControllerStatistics {
   std::uint64_t skippedOutOfLiquid = 0;   ///< bodies wholly out of the liquid (bounding-sphere test)
   std::uint64_t skippedAsleep = 0;        ///< sleeping bodies left asleep
   std::uint64_t failedQueries = 0;        ///< queries that returned an error (force skipped)
+  std::uint64_t massUpdates = 0;          ///< mass properties recomputed and handed to Bullet (variable mass, deformation)
+  std::uint64_t massTexelPasses = 0;      ///< of those, the ones that needed a texel pass (not only point masses)
+  std::uint64_t deformations = 0;         ///< surfaces re-evaluated from moved vertices
 };
 
 /// What the controller knows about one registered body after the last step.
@@ -104,6 +108,12 @@ class BuoyancyController : public btActionInterface {
   /// inertia that is not symmetric positive definite.
   Status setMassProperties(btRigidBody* body, const MassProperties& massProperties);
 
+  /// The mass model of a body that lists Effect::VariableMass or Effect::Deformation, or null.
+  /// Change it at any time (move point masses, replace the density map, heat a balloon's gas by
+  /// its solid density): the next step recomputes the mass properties and hands them to Bullet,
+  /// keeping the shape in place and momentum; steps where nothing changed recompute nothing.
+  MassModel* massModel(const btRigidBody* body);
+
   /// Where the mesh's own frame is in the world (for rendering), or empty for an unknown body.
   std::optional<btTransform> meshTransform(const btRigidBody* body) const;
   /// Report of a registered body, or null.
@@ -131,6 +141,9 @@ class BuoyancyController : public btActionInterface {
  private:
   FloatingBody* find(const btRigidBody* body) const;
   void stepBody(FloatingBody& floating, double dt);
+  Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
+  void deform(FloatingBody& floating);
+  void followMassModel(FloatingBody& floating);
 
   btDynamicsWorld& world_;
   LiquidSettings liquid_;

@@ -4,7 +4,9 @@
 /// (DESIGN.md "Effects on demand"). A settings struct with defaults and validate(), as Jolt's
 /// XSettings.
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -13,6 +15,8 @@
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
+#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
 #include "hydrotex/TexelDrag.hpp"
 
@@ -23,9 +27,9 @@ enum class Effect : std::uint32_t {
   Buoyancy = 1u << 0,      ///< hydrostatic pressure force and torque (implicit stiffness)
   Drag = 1u << 1,          ///< per-patch pressure and skin-friction drag, rotational damping
   AddedMass = 1u << 2,     ///< the liquid the body must accelerate with it
-  VariableMass = 1u << 3,  ///< reserved (a later issue); validate() refuses it for now
+  VariableMass = 1u << 3,  ///< mass model followed every step (point-mass paths, run-time changes)
   Flooding = 1u << 4,      ///< reserved (a later issue); validate() refuses it for now
-  Deformation = 1u << 5,   ///< reserved (a later issue); validate() refuses it for now
+  Deformation = 1u << 5,   ///< vertices moved every step (callback or scale keyframes); PT/VAT re-evaluated
   Wetting = 1u << 6,       ///< reserved (a later issue); validate() refuses it for now
 };
 
@@ -57,6 +61,21 @@ std::optional<Effect> effectFromName(std::string_view name);
 /// The scene-file name of `effect`.
 std::string_view effectName(Effect effect);
 
+/// One key of a scale animation (scene key `deform: {type: "scale", keyframes: [[t, sx, sy, sz], ...]}`).
+struct ScaleKeyframe {
+  double time = 0.0;                               ///< s (strictly increasing)
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones(); ///< per-axis factor (> 0) about the mesh origin
+};
+
+/// Scale (per axis) of a keyframed animation at `time` (s): linear between keys, held outside.
+/// Ones for no keys.
+Eigen::Vector3d scaleAt(const std::vector<ScaleKeyframe>& keyframes, double time);
+
+/// Moves a deforming body's vertices: given the simulated time (s) and the rest mesh (mesh frame,
+/// m), writes the current positions (same count and order as rest.positions) into `positions`.
+using DeformationFunction =
+    std::function<void(double time, const Mesh& rest, std::vector<Eigen::Vector3d>& positions)>;
+
 /// Which hydrostatics path a body uses.
 enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
@@ -78,6 +97,22 @@ struct FloatingBodySettings {
   std::optional<double> density;
   /// Total mass (kg) of a uniform solid.
   std::optional<double> mass;
+  /// Shell areal density (kg/m^2) over the whole surface: hulls, buoys, balloon envelopes. With a
+  /// shell or a density map and neither density nor mass, the body is hollow (no solid part).
+  double shellDensity = 0.0;
+  /// Optional density map (gray levels 0..1, sampled at texel centres of the physics atlas):
+  /// density densityRange[0] + level (densityRange[1] - densityRange[0]) kg/m^3 fills the cone
+  /// from the centre of the mesh's bounding box to each texel, replacing `density`.
+  std::shared_ptr<const ImageMap> densityMap;
+  /// kg/m^3 for black and white in densityMap (both >= 0).
+  std::array<double, 2> densityRange{0.0, 0.0};
+  /// Concentrated masses (cargo, passengers, a basket), mesh frame; paths need Effect::VariableMass.
+  std::vector<PointMass> pointMasses;
+  /// With Effect::Deformation: moves the vertices every step (or use scaleKeyframes). The
+  /// collision shape is left as it is.
+  DeformationFunction deformation;
+  /// With Effect::Deformation: scales the mesh about its origin; the collision shape is scaled too.
+  std::vector<ScaleKeyframe> scaleKeyframes;
   /// The effects this body pays for.
   EffectSet effects{Effect::Buoyancy, Effect::Drag};
   /// Drag law coefficients (used with Effect::Drag).

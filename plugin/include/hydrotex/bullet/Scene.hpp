@@ -7,13 +7,16 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
+#include "hydrotex/ImageMap.hpp"
 #include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
@@ -34,6 +37,11 @@ struct SceneBody {
   int resolution = 256;                                      ///< texels per side
   HydrostaticsMethod method = HydrostaticsMethod::Texture;   ///< hydrostatics path
   EffectSet effects{Effect::Buoyancy, Effect::Drag};         ///< effects it pays for
+  double shellDensity = 0.0;                                 ///< kg/m^2 (`shell_density`)
+  std::shared_ptr<const ImageMap> densityMap;                ///< `density_map` (PNG, loaded)
+  std::array<double, 2> densityRange{0.0, 0.0};              ///< kg/m^3 for black and white (`density_range`)
+  std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
+  std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
 };
 
 /// The liquid's free surface.
