@@ -1,6 +1,7 @@
 // `hydrotex hydrostatics MESH [--method exact|texture] [--resolution N] [--translate X,Y,Z]
 //   [--rotate-deg RX,RY,RZ] [--water-level H] [--fluid-density KG_M3] [--gravity G] [--json]`
 
+#include <span>
 #include <sstream>
 
 #include "ToolSupport.hpp"
@@ -9,7 +10,6 @@
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
 
 namespace hydrotex::tool {
 
@@ -44,12 +44,18 @@ int runHydrostatics(const HydrostaticsOptions& options) {
   query.centerOfMass = solid->centerOfMass;
 
   Expected<HydrostaticsResult> result = Error{""};
+  std::unique_ptr<ComputeBackend> backend;
   if (!options.method.texture()) {
     result = polyhedralHydrostatics(body->mesh, water, query);
   } else {
-    Expected<TextureHydrostatics> texture = TextureHydrostatics::build(body->bake, body->textures);
-    if (!texture) return reportError(Error{options.meshPath + ": " + texture.error().message});
-    result = texture->query(water, query);
+    Expected<BackendBody> registered =
+        registerWithBackend(options.method.backend, body->bake, body->textures, solid->centerOfMass);
+    if (!registered) return reportError(Error{options.meshPath + ": " + registered.error().message});
+    HydrostaticsResult texture;
+    const BackendHydrostaticsQuery batch[] = {{registered->id, query}};
+    Status done = registered->backend->hydrostatics(water, batch, std::span(&texture, 1));
+    result = done ? Expected<HydrostaticsResult>(texture) : Expected<HydrostaticsResult>(done.error());
+    backend = std::move(registered->backend);
   }
   if (!result) return reportError(Error{options.meshPath + ": " + result.error().message});
 
@@ -62,7 +68,7 @@ int runHydrostatics(const HydrostaticsOptions& options) {
   out["waterplane_centroid"] = toJson(result->waterplaneCentroid);
   out["wetted_area"] = result->wettedArea;
   out["stiffness"] = toJson(result->stiffness);
-  options.method.addTo(out);
+  options.method.addTo(out, backend.get());
 
   std::ostringstream text;
   text.precision(8);

@@ -2,6 +2,7 @@
 //                     [--density-map PNG --density-range MIN,MAX] [--json]`
 
 #include <cmath>
+#include <span>
 #include <sstream>
 
 #include "ToolSupport.hpp"
@@ -23,7 +24,8 @@ struct MassOptions {
   bool json = false;
 };
 
-Expected<MassProperties> textureMass(const MassOptions& options) {
+/// The texture path on the chosen backend; `backendUsed` reports what ran it.
+Expected<MassProperties> textureMass(const MassOptions& options, std::unique_ptr<ComputeBackend>& backendUsed) {
   BodyGeometrySettings settings;
   settings.bake.width = settings.bake.height = options.method.resolution;
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
@@ -37,12 +39,20 @@ Expected<MassProperties> textureMass(const MassOptions& options) {
     const double low = options.densityRange[0], high = options.densityRange[1];
     model.texelDensity = resampleToTexels(*image, body->bake);
     for (float& value : model.texelDensity) value = static_cast<float>(low + (high - low) * value);
-    // The cone apex: the uniform solid's centre of mass, which lies inside convex bodies; for
-    // others the cones are signed and still sum to the body.
-    TextureMassModel uniform;
-    model.referencePoint = textureMassProperties(body->textures, uniform).centerOfMass;
   }
-  return textureMassProperties(body->textures, model);
+  // The cone apex: the solid's centroid (inside convex bodies; for others the cones are signed
+  // and still sum to the body), exact from the mesh, which loadBodyGeometry found closed.
+  Expected<MassProperties> solid = polyhedralMassProperties(body->mesh, 1.0);
+  if (!solid) return Error{options.meshPath + ": " + solid.error().message};
+  Expected<BackendBody> registered =
+      registerWithBackend(options.method.backend, body->bake, body->textures, solid->centerOfMass);
+  if (!registered) return Error{options.meshPath + ": " + registered.error().message};
+  MassProperties result;
+  const BackendBodyId ids[] = {registered->id};
+  if (Status done = registered->backend->massProperties(ids, std::span(&model, 1), std::span(&result, 1)); !done)
+    return Error{options.meshPath + ": " + done.error().message};
+  backendUsed = std::move(registered->backend);
+  return result;
 }
 
 int runMass(const MassOptions& options) {
@@ -52,13 +62,14 @@ int runMass(const MassOptions& options) {
     return reportError(Error{"--density-map needs --density-range MIN,MAX (kg/m^3 for black and white)"});
 
   Expected<MassProperties> mass = Error{""};
+  std::unique_ptr<ComputeBackend> backend;
   if (!options.method.texture()) {
     Expected<Mesh> mesh = loadMesh(options.meshPath);
     if (!mesh) return reportError(mesh.error());
     mass = polyhedralMassProperties(*mesh, options.density);
     if (!mass) return reportError(Error{options.meshPath + ": " + mass.error().message});
   } else {
-    mass = textureMass(options);
+    mass = textureMass(options, backend);
     if (!mass) return reportError(mass.error());
   }
 
@@ -67,7 +78,7 @@ int runMass(const MassOptions& options) {
   out["volume"] = mass->volume;
   out["center_of_mass"] = toJson(mass->centerOfMass);
   out["inertia"] = toJson(mass->inertia);
-  options.method.addTo(out);
+  options.method.addTo(out, backend.get());
 
   std::ostringstream text;
   text.precision(8);

@@ -5,6 +5,10 @@
 #include <sstream>
 #include <vector>
 
+#ifdef HYDROTEX_WITH_GPU
+#include "hydrotex/gpu/MakeBackend.hpp"
+#endif
+
 namespace hydrotex::tool {
 
 CLI::Option* addVector3Option(CLI::App& app, const std::string& name, Eigen::Vector3d& target,
@@ -29,19 +33,48 @@ CLI::Option* addResolutionOption(CLI::App& app, int& resolution) {
 
 std::string MethodOptions::describe(const std::string& meshPath) const {
   std::string text = meshPath + " (" + method;
-  if (texture()) text += ", " + std::to_string(resolution) + "^2 texels";
+  if (texture()) text += ", " + std::to_string(resolution) + "^2 texels, " + backend + " backend";
   return text + ")";
 }
 
-void MethodOptions::addTo(nlohmann::json& out) const {
+void MethodOptions::addTo(nlohmann::json& out, const ComputeBackend* computeBackend) const {
   out["method"] = method;
   out["resolution"] = texture() ? nlohmann::json(resolution) : nlohmann::json(nullptr);
+  out["backend"] = computeBackend ? nlohmann::json(computeBackend->name()) : nlohmann::json(nullptr);
+  out["renderer"] = computeBackend ? nlohmann::json(computeBackend->renderer()) : nlohmann::json(nullptr);
+}
+
+namespace {
+Expected<std::unique_ptr<ComputeBackend>> makeToolBackend(const std::string& name) {
+#ifdef HYDROTEX_WITH_GPU
+  Expected<std::unique_ptr<ComputeBackend>> backend = gpu::makeBackend(name);
+  if (!backend) return Error{"--backend " + name + ": " + backend.error().message};
+  return backend;
+#else
+  if (name == "cpu") return makeCpuBackend();
+  return Error{"--backend " + name + ": this hydrotex was built without the GPU backend (hydrotex::gpu)"};
+#endif
+}
+}  // namespace
+
+Expected<BackendBody> registerWithBackend(const std::string& backendName, const SurfaceBake& bake,
+                                          const SurfaceTextures& textures, const Eigen::Vector3d& massReferencePoint) {
+  Expected<std::unique_ptr<ComputeBackend>> backend = makeToolBackend(backendName);
+  if (!backend) return backend.error();
+  BackendBody body;
+  body.backend = std::move(backend).value();
+  Expected<BackendBodyId> id = body.backend->addBody(bake, textures, massReferencePoint);
+  if (!id) return id.error();
+  body.id = *id;
+  return body;
 }
 
 void addMethodOptions(CLI::App& verb, MethodOptions& options) {
   verb.add_option("--method", options.method, "exact (polyhedral) or texture (default)")
       ->check(CLI::IsMember({"exact", "texture"}));
   addResolutionOption(verb, options.resolution);
+  verb.add_option("--backend", options.backend, "cpu (default) or gpu: where the texture path's passes run")
+      ->check(CLI::IsMember({"cpu", "gpu"}));
 }
 
 int reportError(const Error& error) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "Verbs.hpp"
+#include "hydrotex/ComputeBackend.hpp"
 #include "hydrotex/Expected.hpp"
 
 namespace hydrotex::tool {
@@ -23,16 +24,29 @@ CLI::Option* addResolutionOption(CLI::App& app, int& resolution);
 struct MethodOptions {
   std::string method = "texture";  ///< "exact" or "texture"
   int resolution = 256;            ///< texels per side (texture path)
+  std::string backend = "cpu";     ///< "cpu" or "gpu" (texture path)
   /// True for the texture path.
   bool texture() const { return method == "texture"; }
   /// "MESH (texture, 256^2 texels)" or "MESH (exact)", the first line of a readable summary.
   std::string describe(const std::string& meshPath) const;
-  /// The `method` and `resolution` JSON keys (resolution null for the exact path).
-  void addTo(nlohmann::json& out) const;
+  /// The `method`, `resolution`, `backend` and `renderer` JSON keys (null where they do not
+  /// apply: the exact path has no resolution and runs on no backend).
+  void addTo(nlohmann::json& out, const ComputeBackend* backend) const;
 };
 
-/// Adds `--method exact|texture` and `--resolution N`.
+/// Adds `--method exact|texture`, `--resolution N` and `--backend cpu|gpu`.
 void addMethodOptions(CLI::App& verb, MethodOptions& options);
+
+/// A body registered with a compute backend, for the texture path of a verb.
+struct BackendBody {
+  std::unique_ptr<ComputeBackend> backend;  ///< "cpu", or "gpu" when built with hydrotex::gpu
+  BackendBodyId id = 0;                     ///< the body in that backend
+};
+
+/// Opens the backend named `backendName` and registers the baked body with the cone apex
+/// `massReferencePoint` (m, body frame). Errors name the backend or the mesh.
+Expected<BackendBody> registerWithBackend(const std::string& backendName, const SurfaceBake& bake,
+                                          const SurfaceTextures& textures, const Eigen::Vector3d& massReferencePoint);
 
 /// Registers a verb whose options live in `options` (which has a `bool json`): adds `--json` and
 /// makes `run(*options)` the action when the verb is chosen.

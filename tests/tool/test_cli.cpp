@@ -131,6 +131,31 @@ TEST_CASE("hydrostatics of the unit box half under water", "[tool]") {
   }
 }
 
+TEST_CASE("--backend gpu gives the CPU backend's answer and says what ran it", "[tool][gpu]") {
+  const std::string pose = " --resolution 128 --rotate-deg 10,20,30 --translate 0,0.1,0 --json";
+  const ToolRun cpu = runTool("hydrostatics " + kBox + " --backend cpu" + pose);
+  REQUIRE(cpu.exitCode == 0);
+  const auto c = nlohmann::json::parse(cpu.out);
+  CHECK(c["backend"] == "cpu");
+  CHECK(c["renderer"] == "CPU");
+  const ToolRun gpu = runTool("hydrostatics " + kBox + " --backend gpu" + pose);
+  if (gpu.exitCode != 0 && gpu.err.find("without the GPU backend") != std::string::npos) {
+    WARN("hydrotex was built without hydrotex::gpu: " << gpu.err);
+    return;
+  }
+  INFO(gpu.err);
+  REQUIRE(gpu.exitCode == 0);
+  const auto g = nlohmann::json::parse(gpu.out);
+  CHECK(g["backend"] == "gpu");
+  CHECK(!g["renderer"].get<std::string>().empty());
+  // Issue 7's parity tolerance: 1e-5 relative on volume and force.
+  CHECK(g["submerged_volume"].get<double>() == Approx(c["submerged_volume"].get<double>()).epsilon(1e-5));
+  CHECK(g["buoyancy_force"][1].get<double>() == Approx(c["buoyancy_force"][1].get<double>()).epsilon(1e-5));
+  const ToolRun mass = runTool("mass " + kBox + " --backend gpu --resolution 64 --json");
+  REQUIRE(mass.exitCode == 0);
+  CHECK(nlohmann::json::parse(mass.out)["mass"].get<double>() == Approx(1000.0).epsilon(1e-5));
+}
+
 TEST_CASE("bake writes pictures and float data", "[tool]") {
   const std::string out = hydrotex::test::outputPath("bake_box");
   std::filesystem::remove_all(out);
@@ -161,4 +186,5 @@ TEST_CASE("bad input gets one line and a non-zero exit", "[tool][bad-input]") {
   requireCleanFailure(runTool("hydrostatics " + kBox + " --translate 1,2"), "translate");
   requireCleanFailure(runTool("hydrostatics " + kBox + " --rotate-deg nan,0,0"), "rotate-deg");
   requireCleanFailure(runTool("frobnicate " + kBox), "frobnicate");
+  requireCleanFailure(runTool("mass " + kBox + " --backend quantum"), "backend");
 }
