@@ -1,0 +1,195 @@
+// The deformation effect: vertices moved every step (scale keyframes or a callback), PT/VAT
+// re-evaluated from the kept bake, buoyancy and mass following; hot-air balloons lifting off when
+// the displaced air outweighs envelope, basket and inner gas (ideal gas law), against the closed
+// form.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "PluginTestWorld.hpp"
+#include "hydrotex/IdealGas.hpp"
+
+using namespace hydrotex;
+using namespace hydrotex::bullet;
+using hydrotex::bullet::testing::solid;
+using hydrotex::bullet::testing::TestWorld;
+
+namespace {
+
+constexpr double kAir = 1.225;     // kg/m^3, sea level
+constexpr double kHot = 373.15;    // K, inner gas of the inflating balloon
+constexpr double kBasket = 5.0;    // kg
+constexpr double kEnvelope = 0.05; // kg/m^2
+
+/// An envelope whose lowest point is the mesh origin, so that scaling about the origin keeps it on
+/// the ground.
+Mesh envelopeMesh(double radius) {
+  Mesh mesh = primitives::icosphere(radius, 3);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& p : mesh.positions) lowest = std::min(lowest, p.y());
+  for (Eigen::Vector3d& p : mesh.positions) p.y() -= lowest;
+  return mesh;
+}
+
+double surfaceArea(const Mesh& mesh) {
+  double area = 0.0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    area += 0.5 * (mesh.positions[std::size_t(t[1])] - mesh.positions[std::size_t(t[0])])
+                      .cross(mesh.positions[std::size_t(t[2])] - mesh.positions[std::size_t(t[0])])
+                      .norm();
+  }
+  return area;
+}
+
+/// A world of air over a ground plane at y = 0.
+struct BalloonWorld {
+  TestWorld world{std::make_shared<UniformMedium>(kAir, std::numeric_limits<double>::infinity(), 0.0), 1.8e-5};
+  btStaticPlaneShape groundShape{btVector3(0, 1, 0), 0};
+  btRigidBody ground{btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &groundShape)};
+  BalloonWorld() {
+    world.world().addRigidBody(&ground);
+    // Contacts correct penetration by split impulses only, so that the velocity the tests read
+    // is the controller's (lift - weight) and never Bullet's push out of the ground.
+    world.world().getSolverInfo().m_splitImpulse = 1;
+    world.world().getSolverInfo().m_splitImpulsePenetrationThreshold = 0;
+  }
+  ~BalloonWorld() { world.world().removeRigidBody(&ground); }
+  /// The balloon resting on the ground (mesh origin at its lowest point), touching it exactly.
+  btRigidBody* add(const Mesh& mesh, const FloatingBodySettings& settings) {
+    btRigidBody* body = world.add(mesh, settings, btVector3(0, 0, 0));
+    if (body != nullptr) {
+      auto* compound = static_cast<btCompoundShape*>(body->getCollisionShape());
+      compound->getChildShape(0)->setMargin(0);
+      compound->recalculateLocalAabb();
+    }
+    return body;
+  }
+};
+
+FloatingBodySettings balloonSettings(double gasDensity, EffectSet effects) {
+  FloatingBodySettings settings;
+  settings.density = gasDensity;  // the inner gas fills the envelope
+  settings.shellDensity = kEnvelope;
+  PointMass basket;
+  basket.mass = kBasket;
+  settings.pointMasses = {basket};  // hangs at the envelope's lowest point
+  settings.effects = effects;
+  settings.resolution = 128;
+  return settings;
+}
+
+}  // namespace
+
+TEST_CASE("an inflating hot-air balloon lifts off when the displaced air outweighs it", "[deformation][gas][closed-form]") {
+  const double dt = GENERATE(1.0 / 60.0, 1.0 / 240.0);
+  CAPTURE(dt);
+  const Mesh mesh = envelopeMesh(1.0);
+  const double gas = idealGasDensity(kStandardPressure, kMolarMassAir, kHot);
+  FloatingBodySettings settings = balloonSettings(gas, {Effect::Buoyancy, Effect::Deformation});
+  const double s0 = 1.0, s1 = 3.0, inflation = 10.0;  // scale 1 -> 3 over 10 s
+  settings.scaleKeyframes = {{0.0, Eigen::Vector3d::Constant(s0)}, {inflation, Eigen::Vector3d::Constant(s1)}};
+  BalloonWorld air;
+  btRigidBody* balloon = air.add(mesh, settings);
+  REQUIRE(balloon != nullptr);
+
+  // Closed form: at scale s the lift rho_air V0 s^3 g balances (sigma A0 s^2 + m_b + rho_gas V0 s^3) g,
+  // V0 and A0 of the polyhedral envelope (the texel sums give both exactly: PT . VAT, sum |VAT|).
+  const auto unit = polyhedralMassProperties(mesh, 1.0);
+  REQUIRE(unit.ok());
+  const double v0 = unit->volume, a0 = surfaceArea(mesh);
+  auto excess = [&](double s) { return (kAir - gas) * v0 * s * s * s - kEnvelope * a0 * s * s - kBasket; };
+  REQUIRE(excess(s0) < 0.0);
+  REQUIRE(excess(s1) > 0.0);
+  double low = s0, high = s1;
+  for (int i = 0; i < 60; ++i) (excess(0.5 * (low + high)) < 0.0 ? low : high) = 0.5 * (low + high);
+  const double liftOff = (0.5 * (low + high) - s0) / (s1 - s0) * inflation;
+
+  double measured = -1.0;
+  for (int i = 0; i < int(inflation / dt) && measured < 0.0; ++i) {
+    air.world.step(dt);
+    // The controller sets the velocity after Bullet's contacts: it points up from the first step
+    // whose net force (lift - weight) is positive.
+    if (balloon->getLinearVelocity().y() > 0) measured = (i + 1) * dt;
+  }
+  // One step to see the sign change, one for the mass and shape taken at the step's end time:
+  // 2 dt. The texel sums hold volume and area to float rounding (1e-6, far below).
+  CHECK(measured == Approx(liftOff).margin(2.0 * dt));
+  // And it leaves the ground: a second later its lowest point (the mesh origin) is in the air.
+  for (int i = 0; i < int(1.0 / dt); ++i) air.world.step(dt);
+  CHECK(double(air.world.controller().meshTransform(balloon)->getOrigin().y()) > 1e-2);
+  CHECK(air.world.controller().statistics().deformations >= std::uint64_t(inflation / dt / 2));
+}
+
+TEST_CASE("a heated balloon lifts off at the temperature the ideal gas law gives", "[variable-mass][gas][closed-form]") {
+  const double dt = GENERATE(1.0 / 60.0, 1.0 / 240.0);
+  CAPTURE(dt);
+  const Mesh mesh = envelopeMesh(4.0);
+  const double startTemperature = 288.15, heating = 20.0;  // K, K/s
+  FloatingBodySettings settings = balloonSettings(idealGasDensity(kStandardPressure, kMolarMassAir, startTemperature),
+                                                  {Effect::Buoyancy, Effect::VariableMass});
+  BalloonWorld air;
+  btRigidBody* balloon = air.add(mesh, settings);
+  REQUIRE(balloon != nullptr);
+  MassModel* model = air.world.controller().massModel(balloon);
+  REQUIRE(model != nullptr);
+
+  // Closed form: lift-off when rho_gas(T) = rho_air - (sigma A + m_b) / V, T = p M / (R rho_gas).
+  const auto unit = polyhedralMassProperties(mesh, 1.0);
+  REQUIRE(unit.ok());
+  const double gasAtLiftOff = kAir - (kEnvelope * surfaceArea(mesh) + kBasket) / unit->volume;
+  REQUIRE(gasAtLiftOff > 0.0);
+  const double liftOffTemperature = kStandardPressure * kMolarMassAir / (kGasConstant * gasAtLiftOff);
+  const double liftOff = (liftOffTemperature - startTemperature) / heating;
+
+  double measured = -1.0;
+  for (int i = 0; i < int(2.0 * liftOff / dt) && measured < 0.0; ++i) {
+    const double temperature = startTemperature + heating * (i + 1) * dt;  // at the step's end
+    REQUIRE(model->setSolidDensity(idealGasDensity(kStandardPressure, kMolarMassAir, temperature)).ok());
+    air.world.step(dt);
+    if (balloon->getLinearVelocity().y() > 0) measured = (i + 1) * dt;
+  }
+  // One step to see the sign change (dt); the texel sums are exact for volume and area.
+  CHECK(measured == Approx(liftOff).margin(1.01 * dt));
+}
+
+TEST_CASE("a growing box floats at the draft of its current size", "[deformation][closed-form]") {
+  const double dt = GENERATE(1.0 / 60.0, 1.0 / 240.0);
+  CAPTURE(dt);
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy, Effect::Drag, Effect::Deformation},
+                                        HydrostaticsMethod::Texture, 64);
+  settings.scaleKeyframes = {{0.0, Eigen::Vector3d::Ones()}, {2.0, Eigen::Vector3d(1.0, 1.6, 1.0)}};
+  TestWorld world;
+  btRigidBody* box = world.add(primitives::box({2.0, 1.0, 1.5}), settings, btVector3(0, 0, 0));
+  REQUIRE(box != nullptr);
+  for (int i = 0; i < int(25.0 / dt); ++i) world.step(dt);
+  const FloatingBodyReport& report = *world.controller().report(box);
+  // Height 1.6 m: volume 4.8 m^3 (PT/VAT exact on flat texels: 1e-6), mass 2400 kg, draft 0.8 m.
+  CHECK(report.massProperties.volume == Approx(4.8).epsilon(1e-6));
+  CHECK(report.massProperties.mass == Approx(2400.0).epsilon(1e-6));
+  CHECK(report.hydrostatics.submergedVolume == Approx(2.4).epsilon(2e-3));  // at rest: weight / (rho g)
+  // Mesh origin at the box's middle: it scales about it, so the centre sits at 0.8 - 0.8 = 0.
+  // 2 mm as the rigid box's draft test.
+  CHECK(double(world.controller().meshTransform(box)->getOrigin().y()) == Approx(0.0).margin(2e-3));
+}
+
+TEST_CASE("a deformation callback moves the vertices; volume and mass follow", "[deformation]") {
+  FloatingBodySettings settings = solid(300.0, {Effect::Buoyancy, Effect::Deformation}, HydrostaticsMethod::Texture, 32);
+  settings.deformation = [](double time, const Mesh& rest, std::vector<Eigen::Vector3d>& positions) {
+    const double stretch = 1.0 + 0.5 * std::min(time, 1.0);  // x grows to 1.5 in one second
+    for (std::size_t i = 0; i < positions.size(); ++i) positions[i].x() = rest.positions[i].x() * stretch;
+  };
+  TestWorld world(std::make_shared<UniformMedium>(kAir, std::numeric_limits<double>::infinity(), 0.0), 1.8e-5);
+  btRigidBody* box = world.add(primitives::box({1.0, 1.0, 1.0}), settings, btVector3(0, 0, 0));
+  REQUIRE(box != nullptr);
+  for (int i = 0; i < 90; ++i) world.step(1.0 / 60.0);
+  const FloatingBodyReport& report = *world.controller().report(box);
+  // 1.5 x 1 x 1 box: PT/VAT exact on flat texels (1e-6).
+  CHECK(report.massProperties.volume == Approx(1.5).epsilon(1e-6));
+  CHECK(report.massProperties.mass == Approx(450.0).epsilon(1e-6));
+  CHECK(report.hydrostatics.submergedVolume == Approx(1.5).epsilon(1e-6));
+  // Settings that cannot deform are refused with the reason.
+  FloatingBodySettings neither = solid(300.0, {Effect::Deformation}, HydrostaticsMethod::Texture);
+  neither.mesh = std::make_shared<const Mesh>(primitives::box({1.0, 1.0, 1.0}));
+  CHECK(neither.validate().error().message.find("deformation") != std::string::npos);
+}
