@@ -49,8 +49,13 @@ class MassModel {
   Status setShellDensity(double density);
   /// Replaces the density map: one density (kg/m^3) per covered texel (SurfaceTextures order),
   /// each filling the cone from the reference point to its texel. Empty: back to the uniform
-  /// solid. Error when the size is not the texel count or a density is negative or not finite.
+  /// solid. Error when the size is not the texel count; a negative or non-finite density makes
+  /// the next properties() an error (checked inside the texel pass, which costs nothing extra).
   Status setTexelDensity(std::vector<float> density);
+  /// As setTexelDensity, without allocating: the new map is swapped in and `density` receives
+  /// the previous one (empty when there was none), for animations that refill two buffers. On
+  /// error nothing is swapped.
+  Status swapTexelDensity(std::vector<float>& density);
   /// Adds a point mass; returns its index. Error from PointMass::validate().
   Expected<std::size_t> addPointMass(PointMass pointMass);
   /// Moves point mass `index` to `position` (m, mesh frame) and drops its path.
