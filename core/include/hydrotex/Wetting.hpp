@@ -49,6 +49,11 @@ struct WettingSettings {
   double molarMass = 0.018015;      ///< M of the liquid (kg/mol); water 0.018015
   double vapourDiffusivity = 2.5e-5;  ///< D_w of the vapour in air (m^2/s); water vapour 2.5e-5
   int maxExplicitSubsteps = 4;      ///< above this many stable explicit sub-steps the step is implicit (backward Euler)
+  /// Texels whose explicit stability bound A_i / (D sum_j g_ij) is below this fraction of the
+  /// median texel's are merged, for diffusion only, with their most strongly coupled neighbour
+  /// into one control volume (slivers at chart borders, the squeezed texels near a UV sphere's
+  /// poles), until every such group meets the bound. Volume is conserved; 0 turns merging off.
+  double mergeBelowFraction = 0.1;
   /// One-line reason when a value is out of range.
   Status validate() const;
   /// Hall and Hoff's constant-rate evaporation (m/s of liquid depth) for these settings.
@@ -82,7 +87,8 @@ class Wetting {
   static Expected<Wetting> create(TexelAdjacency adjacency, const SurfaceTextures& textures,
                                   const WettingSettings& settings);
 
-  /// One step of `dt` seconds: absorb, diffuse, evaporate. Errors (texture size, non-finite dt or
+  /// One step of `dt` seconds: absorption, sources and evaporation in one pass over the texels
+  /// (a texel in the air takes its sources' liquid, then dries), then diffusion. Errors (texture size, non-finite dt or
   /// pose, invalid liquid surface) leave `texture` untouched.
   Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt);
 
@@ -101,8 +107,12 @@ class Wetting {
   const WettingSettings& settings() const { return settings_; }
   /// Texels under the liquid at the last absorb() (1) or not (0).
   const std::vector<std::uint8_t>& submergedMask() const { return submerged_; }
-  /// Largest stable explicit step (s) of the diffusion.
+  /// Largest stable explicit step (s) of the diffusion (after merging stiff texels).
   double stableTimeStep() const { return stableStep_; }
+  /// Number of merged diffusion groups (of two or more texels).
+  std::size_t mergedGroupCount() const { return groupStart_.empty() ? 0 : groupStart_.size() - 1; }
+  /// Number of texels in merged diffusion groups.
+  std::size_t mergedTexelCount() const { return groupMembers_.size(); }
 
   /// Moves the solver (the cached implicit system is kept).
   Wetting(Wetting&&) noexcept;
@@ -112,6 +122,12 @@ class Wetting {
 
  private:
   Wetting();
+  void buildDiffusionGroups();
+  template <bool Flat>
+  void exchange(LiquidTexture& texture, const WettingEnvironment& environment, double dt, bool absorbing,
+                bool evaporating, WettingStepReport& report);
+  void poolGroups(LiquidTexture& texture) const;
+  void spreadGroups(LiquidTexture& texture) const;
   void diffuseExplicit(LiquidTexture& texture, double dt);
   void diffuseImplicit(LiquidTexture& texture, double dt);
   void applyPairFluxes(LiquidTexture& texture, const std::vector<double>& flux);
@@ -119,12 +135,20 @@ class Wetting {
   struct ImplicitSystem;
   TexelAdjacency adjacency_;
   WettingSettings settings_;
-  std::vector<Eigen::Vector3f> position_;  // texel centroids (body frame, m)
-  std::vector<Eigen::Vector3f> normal_;    // unit normals (body frame); zero where the area vector vanishes
-  std::vector<float> inverseArea_;         // 1 / A_i (1/m^2), 0 for texels without area
-  std::vector<float> pairConductance_;     // D g_ij (m^2/s)
+  // Texel centroids and unit normals (body frame), one array per coordinate so that the per-texel
+  // pass streams them; normals are zero where the area vector vanishes.
+  std::vector<float> px_, py_, pz_, nx_, ny_, nz_;
   std::vector<std::uint8_t> submerged_;
-  std::vector<float> delta_;               // scratch: volume change per texel (m^3)
+  // Diffusion runs on groups of texels: most are alone; a merged group's liquid is pooled into its
+  // first texel, diffused there with the group's area, and copied back to every member.
+  std::vector<std::uint32_t> groupStart_;    // CSR ranges into groupMembers_ (groups of two or more)
+  std::vector<std::uint32_t> groupMembers_;  // first member of each range holds the group
+  std::vector<double> nodeArea_;             // group area on the holding texel, own area when alone, 0 otherwise (m^2)
+  std::vector<float> inverseNodeArea_;       // 1 / nodeArea_, 0 where nodeArea_ is 0 (1/m^2)
+  std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
+  std::vector<double> pairGeometric_;        // g_ij of those pairs (dimensionless)
+  std::vector<float> pairConductance_;       // D g_ij (m^2/s)
+  std::vector<float> delta_;                 // scratch: volume change per texel (m^3)
   std::vector<float> pigmentDelta_;
   std::unique_ptr<ImplicitSystem> implicit_;
   double stableStep_ = 0.0;
