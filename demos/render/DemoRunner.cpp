@@ -1,0 +1,346 @@
+#include "DemoRunner.hpp"
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "ContactSheet.hpp"
+#include "DebugLineCollector.hpp"
+#include "ImageFiles.hpp"
+#include "VideoEncoder.hpp"
+#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/gpu/EglContext.hpp"
+
+namespace hydrotex::render {
+namespace {
+
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
+
+Eigen::Matrix4f toMatrix(const btTransform& transform) {
+  btScalar m[16];
+  transform.getOpenGLMatrix(m);  // column-major, as Eigen stores it
+  Eigen::Matrix4f out;
+  for (int i = 0; i < 16; ++i) out.data()[i] = static_cast<float>(m[i]);
+  return out;
+}
+
+/// What is measured on one body as the demo runs.
+struct BodyFigures {
+  std::string name;
+  double volume = 0.0;                  // m^3, of the mesh
+  std::optional<double> sinkTime;       // s, first time the submerged fraction reached demo.sinkFraction
+  double submergedFraction = 0.0;       // at the end
+  double listDegrees = 0.0, trimDegrees = 0.0, tiltDegrees = 0.0;  // at the end
+  double mass = 0.0;                    // kg, at the end
+};
+
+void printProgress(int done, int total, double simulated, double elapsed) {
+  constexpr int width = 30;
+  const int filled = total > 0 ? done * width / total : width;
+  std::fprintf(stderr, "\r  [%.*s%*s] %3d%%  t = %6.2f s  (%5.1f s taken)", filled, "##############################",
+               width - filled, "", total > 0 ? done * 100 / total : 100, simulated, elapsed);
+  if (done == total) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+/// The controller draws a body's weight as long as the body; a demo picks its own length. Every red
+/// (weight) and green (buoyancy) line is scaled about its body's centre of mass or buoyancy by one
+/// factor per body, the weight arrow's, so that weight and buoyancy keep their ratio.
+void scaleForceArrows(DebugLineCollector& lines, bullet::SceneWorld& world, double weightLength) {
+  std::vector<DebugLine> scaled = lines.lines();
+  std::vector<bool> done(scaled.size(), false);
+  auto near = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return (a - b).norm() < 1e-3f; };
+  for (btRigidBody* body : world.bodies()) {
+    const bullet::FloatingBodyReport* report = world.controller().report(body);
+    if (report == nullptr) continue;
+    const btVector3 c = body->getCenterOfMassPosition();
+    const Eigen::Vector3f com(float(c.x()), float(c.y()), float(c.z()));
+    const Eigen::Vector3f cob = report->hydrostatics.centerOfBuoyancy.cast<float>();
+    // The weight arrow's shaft is the red line that starts at this body's centre of mass.
+    float shaft = 0.0f;
+    for (const DebugLine& line : scaled)
+      if (line.colour.x() > 0.5f && line.colour.y() < 0.5f && near(line.from, com)) shaft = std::max(shaft, (line.to - line.from).norm());
+    if (shaft <= 0.0f) continue;
+    const float factor = float(weightLength) / shaft;
+    // Each arrow's lines (shaft and head) lie within the shaft's length of its anchor.
+    for (std::size_t k = 0; k < scaled.size(); ++k) {
+      DebugLine& line = scaled[k];
+      const bool red = line.colour.x() > 0.5f && line.colour.y() < 0.5f, green = line.colour.y() > 0.5f && line.colour.x() < 0.5f;
+      const Eigen::Vector3f anchor = red ? com : cob;
+      if (done[k] || !(red || green) || !near(line.from, anchor)) continue;
+      done[k] = true;
+      line.from = anchor + factor * (line.from - anchor);
+      line.to = anchor + factor * (line.to - anchor);
+    }
+  }
+  lines.clear();
+  for (const DebugLine& line : scaled) lines.add(line.from, line.to, line.colour);
+}
+
+}  // namespace
+
+std::optional<std::string> missingRequirement(const DemoDescription& demo) {
+  for (const std::string& name : demo.requires_) {
+    const std::optional<bullet::Effect> effect = bullet::effectFromName(name);
+    if (!effect) return "effect '" + name + "' is unknown to this build";
+    // Ask the plugin itself whether it accepts the effect on a plain body: reserved effects are
+    // refused by FloatingBodySettings::validate() until their issue lands.
+    bullet::FloatingBodySettings settings;
+    settings.mesh = std::make_shared<Mesh>(primitives::box(Eigen::Vector3d::Ones()));
+    settings.resolution = 16;
+    settings.density = 500.0;
+    settings.effects = {bullet::Effect::Buoyancy, *effect};
+    if (*effect == bullet::Effect::Deformation) settings.scaleKeyframes = {{0.0, Eigen::Vector3d::Ones()}};
+    if (const Status valid = settings.validate(); !valid) return "effect '" + name + "' is not available yet: " + valid.error().message;
+  }
+  if (!demo.waitingFor.empty()) return demo.waitingFor;
+  return std::nullopt;
+}
+
+int runDemo(const DemoDescription& demo, const DemoOptions& options) {
+  std::printf("%s\n", demo.title.c_str());
+  if (!demo.figure.empty()) std::printf("  reproduces %s\n", demo.figure.c_str());
+  if (const std::optional<std::string> missing = missingRequirement(demo)) {
+    std::printf("  WAITING: demo '%s' cannot run in this build: %s\n", demo.name.c_str(), missing->c_str());
+    return kDemoWaitingExitCode;
+  }
+  Expected<bullet::Scene> scene = bullet::parseScene(demo.sceneText, demo.baseDirectory, "demo_" + demo.name + ".json: scene");
+  if (!scene) {
+    std::fprintf(stderr, "hydrotex_demo: %s\n", scene.error().message.c_str());
+    return 1;
+  }
+  const auto wallStart = std::chrono::steady_clock::now();
+  Expected<std::unique_ptr<bullet::SceneWorld>> world = bullet::SceneWorld::create(*scene);
+  if (!world) {
+    std::fprintf(stderr, "hydrotex_demo: %s\n", world.error().message.c_str());
+    return 1;
+  }
+  bullet::SceneWorld& sceneWorld = **world;
+
+  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
+  if (!context) {
+    std::fprintf(stderr, "hydrotex_demo: no headless OpenGL 4.3 context: %s\n", context.error().message.c_str());
+    return 1;
+  }
+  if (const Status current = (*context)->makeCurrent(); !current) {
+    std::fprintf(stderr, "hydrotex_demo: %s\n", current.error().message.c_str());
+    return 1;
+  }
+  RendererSettings rendererSettings;
+  rendererSettings.width = options.width.value_or(options.smoke ? 160 : demo.width);
+  rendererSettings.height = options.height.value_or(options.smoke ? 90 : demo.height);
+  Expected<std::unique_ptr<GlRenderer>> renderer = GlRenderer::create(rendererSettings);
+  if (!renderer) {
+    std::fprintf(stderr, "hydrotex_demo: %s\n", renderer.error().message.c_str());
+    return 1;
+  }
+  std::printf("  renderer: %s (%s), %dx%d\n", (*context)->renderer().c_str(), (*context)->platform().c_str(), rendererSettings.width,
+              rendererSettings.height);
+
+  // Bodies: meshes and looks.
+  std::vector<int> rendererIds;
+  std::vector<BodyFigures> figures;
+  std::vector<double> overlayOpacity;
+  for (const bullet::SceneBody& body : scene->bodies) {
+    Mesh mesh;
+    if (body.mesh) {
+      mesh = *body.mesh;
+    } else {
+      Expected<Mesh> loaded = loadMesh(body.meshPath);
+      if (!loaded) {
+        std::fprintf(stderr, "hydrotex_demo: %s\n", loaded.error().message.c_str());
+        return 1;
+      }
+      mesh = std::move(*loaded);
+    }
+    const auto lookIt = demo.looks.find(body.name);
+    const BodyLook look = lookIt != demo.looks.end() ? lookIt->second : BodyLook{};
+    std::optional<RgbImage> albedo, overlay;
+    for (auto [path, image] : {std::pair{&look.albedoPath, &albedo}, std::pair{&look.overlayPath, &overlay}}) {
+      if (path->empty()) continue;
+      Expected<RgbImage> loaded = loadRgbImage(*path);
+      if (!loaded) {
+        std::fprintf(stderr, "hydrotex_demo: body %s: %s\n", body.name.c_str(), loaded.error().message.c_str());
+        return 1;
+      }
+      *image = std::move(*loaded);
+    }
+    Expected<int> id = (*renderer)->addBody(mesh, albedo ? &*albedo : nullptr, overlay ? &*overlay : nullptr, look.palette);
+    if (!id) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", id.error().message.c_str());
+      return 1;
+    }
+    rendererIds.push_back(*id);
+    overlayOpacity.push_back(overlay ? look.overlayOpacity : 0.0);
+    BodyFigures bodyFigures;
+    bodyFigures.name = body.name;
+    figures.push_back(bodyFigures);
+  }
+
+  // Frames and the steps between them.
+  const long long totalSteps = scene->stepCount();
+  const int defaultFrames = std::max(1, static_cast<int>(std::lround(scene->duration * demo.fps)));
+  const int frameCount = options.frames.value_or(options.smoke ? 4 : defaultFrames);
+  const long long stepsPerFrame = std::max<long long>(1, std::llround(double(totalSteps) / defaultFrames));
+  const std::filesystem::path outDir(options.outputDirectory);
+  std::error_code ec;
+  std::filesystem::create_directories(outDir / "frames", ec);
+  for (const auto& entry : std::filesystem::directory_iterator(outDir / "frames", ec))
+    if (entry.path().extension() == ".png") std::filesystem::remove(entry.path(), ec);
+  const std::vector<int> sheetChoice = chooseSheetFrames(frameCount, demo.sheetFrames);
+  std::vector<RgbImage> sheetFrames;
+
+  const int followIndex = [&] {
+    for (std::size_t i = 0; i < scene->bodies.size(); ++i)
+      if (scene->bodies[i].name == demo.followBody) return static_cast<int>(i);
+    return -1;
+  }();
+  const std::optional<btTransform> followStart =
+      followIndex >= 0 ? sceneWorld.controller().meshTransform(sceneWorld.bodies()[std::size_t(followIndex)]) : std::nullopt;
+  DebugLineCollector lines;
+  double renderSeconds = 0.0;
+
+  for (int frame = 0; frame < frameCount; ++frame) {
+    if (frame > 0)
+      for (long long s = 0; s < stepsPerFrame; ++s) sceneWorld.step();
+    const double time = sceneWorld.time();
+    FrameInput input;
+    input.camera = demo.camera;
+    if (followStart) {
+      const btVector3 moved = sceneWorld.controller().meshTransform(sceneWorld.bodies()[std::size_t(followIndex)])->getOrigin() - followStart->getOrigin();
+      // Follow horizontally only: the water level stays put in the picture.
+      const Eigen::Vector3d shift(moved.x(), 0.0, moved.z());
+      input.camera.eye += shift;
+      input.camera.target += shift;
+    }
+    input.surface = sceneWorld.controller().liquid().surface.get();
+    input.time = sceneWorld.controller().time();
+    input.shadowCentre = input.camera.target;
+    input.shadowRadius = std::max(6.0, 0.6 * (input.camera.eye - input.camera.target).norm());
+    lines.clear();
+    if (demo.drawForces) {
+      sceneWorld.controller().debugDraw(&lines);
+      scaleForceArrows(lines, sceneWorld, demo.forceArrowLength);
+    }
+    for (std::size_t i = 0; i < scene->bodies.size(); ++i) {
+      btRigidBody* body = sceneWorld.bodies()[i];
+      const std::optional<btTransform> meshTransform = sceneWorld.controller().meshTransform(body);
+      if (!meshTransform) continue;
+      Eigen::Matrix4f model = toMatrix(*meshTransform);
+      if (!scene->bodies[i].scaleKeyframes.empty())
+        model = model * Eigen::Affine3f(Eigen::Scaling(bullet::scaleAt(scene->bodies[i].scaleKeyframes, time).cast<float>())).matrix();
+      input.bodies.push_back({rendererIds[i], model, static_cast<float>(overlayOpacity[i])});
+      if (demo.drawPointMasses)
+        if (const MassModel* massModel = sceneWorld.controller().massModel(body))
+          for (const PointMass& point : massModel->pointMasses()) {
+            const Eigen::Vector3d local = point.path.empty() ? point.position : pathPosition(point.path, time);
+            const Eigen::Vector3f at = (model * local.cast<float>().homogeneous()).head<3>();
+            const float arm = 0.15f;
+            const Eigen::Vector3f orange(1.0f, 0.55f, 0.0f);
+            for (int axis = 0; axis < 3; ++axis)
+              lines.add(at - arm * Eigen::Vector3f::Unit(axis), at + arm * Eigen::Vector3f::Unit(axis), orange);
+          }
+      // Figures.
+      if (const bullet::FloatingBodyReport* report = sceneWorld.controller().report(body)) {
+        BodyFigures& f = figures[i];
+        f.volume = report->massProperties.volume;
+        f.mass = report->massProperties.mass;
+        f.submergedFraction = f.volume > 0.0 ? report->hydrostatics.submergedVolume / f.volume : 0.0;
+        if (!f.sinkTime && f.submergedFraction >= demo.sinkFraction && input.surface->hasFreeSurface()) f.sinkTime = time;
+        const btMatrix3x3& basis = meshTransform->getBasis();
+        const btVector3 lengthAxis = basis.getColumn(0), upAxis = basis.getColumn(1), beamAxis = basis.getColumn(2);
+        f.listDegrees = std::asin(std::clamp(double(beamAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
+        f.trimDegrees = std::asin(std::clamp(double(lengthAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
+        f.tiltDegrees = std::acos(std::clamp(double(upAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
+      }
+    }
+    input.lines = lines.lines();
+    const auto renderStart = std::chrono::steady_clock::now();
+    Expected<RgbImage> picture = (*renderer)->render(input);
+    if (!picture) {
+      std::fprintf(stderr, "\nhydrotex_demo: %s\n", picture.error().message.c_str());
+      return 1;
+    }
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%04d.png", frame);
+    if (const Status saved = saveRgbImage(*picture, (outDir / "frames" / name).string()); !saved) {
+      std::fprintf(stderr, "\nhydrotex_demo: %s\n", saved.error().message.c_str());
+      return 1;
+    }
+    renderSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - renderStart).count();
+    if (std::find(sheetChoice.begin(), sheetChoice.end(), frame) != sheetChoice.end()) sheetFrames.push_back(std::move(*picture));
+    printProgress(frame + 1, frameCount, time, std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count());
+  }
+
+  // Contact sheet and video.
+  const std::string sheetPath = (outDir / (demo.name + "_contact.png")).string();
+  const RgbImage sheet = makeContactSheet(sheetFrames, demo.sheetColumns, options.smoke ? 160 : 320);
+  if (const Status saved = saveRgbImage(sheet, sheetPath); !saved) {
+    std::fprintf(stderr, "hydrotex_demo: %s\n", saved.error().message.c_str());
+    return 1;
+  }
+  std::string videoPath;
+  int status = 0;
+  if (options.video && !options.smoke) {
+    videoPath = (outDir / (demo.name + ".mp4")).string();
+    if (const Status encoded = encodeVideo((outDir / "frames" / "frame_%04d.png").string(), demo.fps, videoPath); !encoded) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", encoded.error().message.c_str());
+      videoPath.clear();
+      status = 1;
+    }
+  }
+  const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+
+  // The figures a viewer wants.
+  std::ostringstream text;
+  char line[256];
+  std::snprintf(line, sizeof line, "  time simulated   %.2f s (%d frames, %lld steps of %.4f s)\n", sceneWorld.time(), frameCount,
+                static_cast<long long>(std::llround(sceneWorld.time() / scene->dt)), scene->dt);
+  text << line;
+  std::snprintf(line, sizeof line, "  time taken       %.1f s (rendering and writing frames %.1f s)\n", wallSeconds, renderSeconds);
+  text << line;
+  for (const BodyFigures& f : figures) {
+    std::snprintf(line, sizeof line, "  %-14s  mass %.1f kg, submerged %.1f %% of %.3f m^3, list %+.1f deg, trim %+.1f deg, tilt %.1f deg\n",
+                  f.name.c_str(), f.mass, 100.0 * f.submergedFraction, f.volume, f.listDegrees, f.trimDegrees, f.tiltDegrees);
+    text << line;
+    if (f.sinkTime)
+      std::snprintf(line, sizeof line, "  %-14s  sank (%.0f %% submerged) at t = %.2f s\n", "", 100.0 * demo.sinkFraction, *f.sinkTime);
+    else
+      std::snprintf(line, sizeof line, "  %-14s  did not sink\n", "");
+    text << line;
+    // Liquid held needs the flooding effect (issue 6): said plainly rather than shown as zero.
+    std::snprintf(line, sizeof line, "  %-14s  liquid held: n/a (flooding is not in this build)\n", "");
+    text << line;
+  }
+  text << "  contact sheet    " << sheetPath << "\n";
+  text << "  frames           " << (outDir / "frames").string() << "/frame_NNNN.png\n";
+  if (!videoPath.empty()) text << "  video            " << videoPath << "\n";
+  std::printf("%s", text.str().c_str());
+  std::ofstream((outDir / (demo.name + "_figures.txt")).string()) << demo.title << "\n" << text.str();
+
+  if (options.smoke) {
+    // Read the sheet back from disk: the check sees what a viewer would open.
+    Expected<RgbImage> written = loadRgbImage(sheetPath);
+    if (!written) {
+      std::fprintf(stderr, "hydrotex_demo: smoke check: %s\n", written.error().message.c_str());
+      return 1;
+    }
+    const double spread = pixelStandardDeviation(*written);
+    // A blank (single-colour) render has spread 0; sky, water and a body give tens of levels.
+    if (spread < 5.0) {
+      std::fprintf(stderr, "hydrotex_demo: smoke check: %s looks blank (pixel spread %.2f < 5)\n", sheetPath.c_str(), spread);
+      return 1;
+    }
+    std::printf("  smoke check      passed (pixel spread %.1f)\n", spread);
+  }
+  return status;
+}
+
+}  // namespace hydrotex::render

@@ -1,0 +1,53 @@
+#version 430 core
+// Lambert sun with a 3x3 percentage-closer shadow lookup, hemispheric sky ambient, albedo texture
+// and an optional pseudo-colour overlay of a surface map.
+in vec3 worldPosition;
+in vec3 worldNormal;
+in vec2 texCoord;
+in vec4 lightClip;
+out vec4 colour;
+uniform sampler2D albedoMap;
+uniform sampler2D overlayMap;
+uniform sampler2DShadow shadowMap;
+uniform vec3 sunDirection;   // towards the scene
+uniform vec3 eye;
+uniform float overlayOpacity;
+uniform int palette;         // 0 heat, 1 viridis, 2 wetness
+
+vec3 heat(float x) { return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0); }
+vec3 viridis(float x) {
+  // Polynomial fit of matplotlib's viridis (Mattias Roberts' approximation, public domain).
+  const vec3 c0 = vec3(0.2777, 0.0054, 0.3341), c1 = vec3(0.1051, 1.4046, 1.3846),
+             c2 = vec3(-0.3309, 0.2148, 0.0951), c3 = vec3(-4.6342, -5.7991, -19.3324),
+             c4 = vec3(6.2283, 14.1799, 56.6906), c5 = vec3(4.7764, -13.7451, -65.3530),
+             c6 = vec3(-5.4355, 4.6459, 26.3124);
+  return c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * c6)))));
+}
+vec3 wetness(float x) { return mix(vec3(0.95, 0.95, 0.9), vec3(0.05, 0.2, 0.7), x); }
+
+void main() {
+  vec3 n = normalize(worldNormal);
+  vec3 toEye = normalize(eye - worldPosition);
+  if (dot(n, toEye) < 0.0) n = -n;  // thin parts seen from behind
+  vec3 albedo = texture(albedoMap, texCoord).rgb;
+  if (overlayOpacity > 0.0) {
+    float level = clamp(texture(overlayMap, texCoord).r, 0.0, 1.0);
+    vec3 mapped = palette == 0 ? heat(level) : palette == 1 ? viridis(level) : wetness(level);
+    float weight = palette == 0 ? overlayOpacity * smoothstep(0.0, 0.15, level) : overlayOpacity;
+    albedo = mix(albedo, mapped, weight);
+  }
+  vec3 projected = lightClip.xyz / lightClip.w * 0.5 + 0.5;
+  float lit = 0.0;
+  vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      lit += texture(shadowMap, vec3(projected.xy + vec2(dx, dy) * texel, projected.z - 0.0015));
+  lit /= 9.0;
+  if (any(lessThan(projected, vec3(0.0))) || any(greaterThan(projected, vec3(1.0)))) lit = 1.0;
+  vec3 sun = -normalize(sunDirection);
+  float diffuse = max(dot(n, sun), 0.0) * lit;
+  vec3 ambient = mix(vec3(0.22, 0.20, 0.18), vec3(0.38, 0.45, 0.55), 0.5 + 0.5 * n.y);
+  vec3 lightColour = vec3(1.0, 0.96, 0.88) * 0.85;
+  float specular = pow(max(dot(reflect(-sun, n), toEye), 0.0), 32.0) * 0.08 * lit;
+  colour = vec4(albedo * (ambient + lightColour * diffuse) + specular, 1.0);
+}

@@ -1,0 +1,5 @@
+#version 430 core
+layout(location = 0) in vec3 position;
+uniform mat4 model;
+uniform mat4 lightViewProjection;
+void main() { gl_Position = lightViewProjection * model * vec4(position, 1.0); }

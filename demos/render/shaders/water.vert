@@ -1,0 +1,11 @@
+#version 430 core
+layout(location = 0) in vec3 position;  // world
+layout(location = 1) in vec3 normal;    // world
+uniform mat4 viewProjection;
+out vec3 worldPosition;
+out vec3 worldNormal;
+void main() {
+  worldPosition = position;
+  worldNormal = normal;
+  gl_Position = viewProjection * vec4(position, 1.0);
+}
