@@ -176,8 +176,9 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
   const bool deforming = settings.effects.has(Effect::Deformation);
+  const bool flooding = settings.effects.has(Effect::Flooding);
   const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
-                              settings.effects.has(Effect::VariableMass) || deforming;
+                              settings.effects.has(Effect::VariableMass) || deforming || flooding;
   const bool needsBake =
       settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
@@ -216,6 +217,31 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
         }
       }
       model.advanceTo(time_);
+      if (flooding) {
+        // Paper section 3: the liquid graph, its permeable texels from the PMT, and one point mass
+        // per node that carries the node's liquid (DESIGN.md "Mass model").
+        const FloodingBodySettings& floodingSettings = settings.flooding;
+        std::vector<float> permeability;
+        if (floodingSettings.permeabilityMap) permeability = resampleToTexels(*floodingSettings.permeabilityMap, geometry->bake);
+        Expected<LiquidGraph> graph =
+            floodingSettings.manualGraph
+                ? buildManualLiquidGraph(geometry->mesh, geometry->textures, permeability, *floodingSettings.manualGraph,
+                                         floodingSettings.graph)
+                : buildAutomaticLiquidGraph(geometry->mesh, geometry->textures, permeability, floodingSettings.nodeCount,
+                                            floodingSettings.graph);
+        if (!graph) return Error{"flooding: " + graph.error().message};
+        auto state = std::make_unique<FloodingState>(FloodingState{std::move(graph).value(), {}, {}, {}});
+        for (const LiquidGraphNode& node : state->graph.nodes()) {
+          PointMass liquid;
+          liquid.position = node.position;
+          Expected<std::size_t> added = model.addPointMass(liquid);
+          if (!added) return Error{"flooding: " + added.error().message};
+          state->pointMasses.push_back(*added);
+          state->appliedMass.push_back(0.0);
+          state->appliedCentroid.push_back(node.position);
+        }
+        floating->flooding = std::move(state);
+      }
     }
     if (deforming) {
       auto state = std::make_unique<DeformationState>();
@@ -226,6 +252,25 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       state->textures = std::move(geometry->textures);
       floating->deformation = std::move(state);
     }
+  }
+
+  if (settings.effects.has(Effect::Wetting)) {
+    // The liquid texture has its own bake (its resolution may differ from the physics bake's);
+    // drag or wetting alone do not need a closed mesh, but registration already checked it.
+    const WettingBodySettings& wetting = settings.wetting;
+    BodyGeometrySettings wettingGeometry;
+    wettingGeometry.bake.width = wettingGeometry.bake.height = wetting.resolution > 0 ? wetting.resolution : settings.resolution;
+    wettingGeometry.requireClosed = false;
+    Expected<BodyGeometry> geometry = prepareBodyGeometry(mesh, wettingGeometry);
+    if (!geometry) return Error{"wetting: " + geometry.error().message};
+    Expected<TexelAdjacency> graph = buildTexelAdjacency(geometry->bake, geometry->mesh, geometry->atlas.layout);
+    if (!graph) return Error{"wetting: " + graph.error().message};
+    Expected<Wetting> solver = Wetting::create(std::move(graph).value(), geometry->textures, wetting.physics);
+    if (!solver) return Error{"wetting.physics: " + solver.error().message};
+    Expected<LiquidTexture> texture = makeLiquidTexture(geometry->textures.size(), wetting.material);
+    if (!texture) return Error{"wetting.material: " + texture.error().message};
+    floating->wetting = std::make_unique<WettingState>(WettingState{std::move(solver).value(), std::move(texture).value(), {}});
+    floating->wetting->environment.sources = wetting.sources;
   }
 
   floating->boundsRadius = 0.5 * (upper - lower).norm();
@@ -376,8 +421,15 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
 
   // Variable mass and deformation first: the forces below must see this step's body.
   if (floating.deformation) deform(floating);
-  if (floating.massModel && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
+  if (floating.flooding) flood(floating, dt);  // follows the mass model itself
+  if (floating.massModel && !floating.flooding && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
     followMassModel(floating);
+  }
+
+  // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
+  if (floating.wetting) {
+    const btTransform placed = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
+    wet(floating, toPose(placed), toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity), dt);
   }
 
   // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
@@ -572,6 +624,32 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   body->setAngularVelocity(toBullet(Eigen::Vector3d(next.tail<3>())));
 }
 
+void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) {
+  WettingState& state = *floating.wetting;
+  WettingEnvironment& environment = state.environment;
+  environment.liquid = liquid_.surface.get();
+  environment.pose = meshPose;
+  environment.time = time_;
+  // Without downward gravity there is no hydrostatic head; a vanishing g drives no absorption.
+  environment.gravity = -gravity.y() > 0.0 ? -gravity.y() : 1e-12;
+  ++statistics_.wettingSteps;
+  Expected<WettingStepReport> stepped = state.solver.step(state.texture, environment, dt);
+  if (!stepped) {
+    ++statistics_.failedQueries;
+    return;
+  }
+  FloatingBodyReport& report = floating.report;
+  report.liquidAbsorbed += stepped->absorbed;
+  report.liquidEvaporated += stepped->evaporated;
+  // The step's balance is exact (absorbed = held + evaporated): no pass over the texels needed.
+  report.liquidHeld += stepped->absorbed - stepped->evaporated;
+}
+
+const LiquidTexture* BuoyancyController::liquidTexture(const btRigidBody* body) const {
+  const FloatingBody* floating = find(body);
+  return floating != nullptr && floating->wetting ? &floating->wetting->texture : nullptr;
+}
+
 void BuoyancyController::followMassModel(FloatingBody& floating) {
   MassModel& model = *floating.massModel;
   model.advanceTo(time_);
@@ -587,6 +665,66 @@ void BuoyancyController::followMassModel(FloatingBody& floating) {
     return;
   }
   floating.body->activate(true);
+}
+
+void BuoyancyController::flood(FloatingBody& floating, double dt) {
+  FloodingState& state = *floating.flooding;
+  btRigidBody* body = floating.body;
+  const LiquidSurface& surface = *liquid_.surface;
+  const Eigen::Vector3d gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
+  FloodingQuery query;
+  query.pose = toPose(body->getCenterOfMassTransform() * floating.bodyToMesh.inverse());
+  query.time = time_;
+  query.timeStep = dt;
+  query.gravity = -gravity.y();
+  query.viscosity = liquid_.viscosity;
+  FloodingStepResult stepped;
+  if (query.gravity > 0.0 && query.viscosity > 0.0) {  // no weight or no viscosity: Darcy has nothing to say
+    Expected<FloodingStepResult> result = state.graph.step(surface, query);
+    if (!result) {
+      ++statistics_.failedQueries;
+    } else {
+      stepped = *result;
+      ++statistics_.floodingSteps;
+      statistics_.permeableTexelsVisited += stepped.texelsVisited;
+    }
+  }
+  floating.report.liquidVolume = state.graph.heldLiquid();
+
+  // The liquid's mass at its centroid (which moves with heel: the free surface) enters the mass
+  // model; only nodes whose liquid or centroid moved are handed over, so a body at rest with
+  // nothing flowing recomputes nothing.
+  MassModel& model = *floating.massModel;
+  const double density = surface.density();
+  const std::vector<LiquidGraphNode>& nodes = state.graph.nodes();
+  const std::vector<Eigen::Vector3d>& centroids = state.graph.liquidCentroids();
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double mass = density * nodes[i].liquid;
+    if (mass != state.appliedMass[i]) {
+      if (model.setPointMassMass(state.pointMasses[i], mass)) state.appliedMass[i] = mass;
+    }
+    if (mass > 0.0 && centroids[i] != state.appliedCentroid[i]) {
+      if (model.setPointMassPosition(state.pointMasses[i], centroids[i])) state.appliedCentroid[i] = centroids[i];
+    }
+  }
+  const double massBefore = floating.report.massProperties.mass;
+  followMassModel(floating);
+  const double massAfter = floating.report.massProperties.mass;
+  if (massAfter == massBefore || !(massAfter > 0.0)) return;
+  // setMassProperties kept the momentum m v, i.e. liquid that enters at rest. Liquid enters with
+  // the liquid's velocity and leaves with the body's: P' = m v + rho (V_in u_liquid - V_out v).
+  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
+  const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
+  const Eigen::Vector3d liquidVelocity = surface.velocity(center, time_) + toEigen(liquid_.current);
+  const Eigen::Vector3d bodyVelocityBefore = v * (massAfter / massBefore);
+  const Eigen::Vector3d correction =
+      density * (stepped.inflow * liquidVelocity - stepped.outflow * bodyVelocityBefore) / massAfter;
+  body->setLinearVelocity(toBullet(Eigen::Vector3d(v + correction)));
+}
+
+const LiquidGraph* BuoyancyController::liquidGraph(const btRigidBody* body) const {
+  const FloatingBody* floating = find(body);
+  return floating != nullptr && floating->flooding ? &floating->flooding->graph : nullptr;
 }
 
 void BuoyancyController::deform(FloatingBody& floating) {

@@ -8,11 +8,13 @@
 #include <optional>
 #include <vector>
 
+#include "hydrotex/LiquidGraph.hpp"
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/Wetting.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 namespace hydrotex::bullet {
@@ -25,6 +27,21 @@ struct DeformationState {
   UvLayout layout;                      ///< the physics atlas the bake was made with
   SurfaceTextures textures;             ///< PT/VAT of the current vertices
   std::vector<Eigen::Vector3d> positions;  ///< scratch for the deformation function
+};
+
+/// The liquid texture of a body (only for Effect::Wetting).
+struct WettingState {
+  Wetting solver;        ///< texel graph and cached solve
+  LiquidTexture texture; ///< liquid per texel (m)
+  WettingEnvironment environment; ///< sources set at registration; pose, time and gravity per step
+};
+
+/// The liquid graph of a body and the point masses that carry its liquid (only for Effect::Flooding).
+struct FloodingState {
+  LiquidGraph graph;                      ///< nodes, edges, permeable texels, liquid held
+  std::vector<std::size_t> pointMasses;   ///< per node: its liquid's point mass in FloatingBody::massModel
+  std::vector<double> appliedMass;        ///< per node: kg last handed to the mass model
+  std::vector<Eigen::Vector3d> appliedCentroid;  ///< per node: m, mesh frame, last handed to the mass model
 };
 
 /// One registered body.
@@ -45,6 +62,8 @@ struct FloatingBody {
   std::optional<MassModel> massModel;           ///< only with a shell, map, point masses, variable mass or deformation
   std::uint64_t appliedMassRevision = 0;        ///< massModel revision last handed to Bullet
   std::unique_ptr<DeformationState> deformation; ///< only with Effect::Deformation
+  std::unique_ptr<FloodingState> flooding;      ///< only with Effect::Flooding
+  std::unique_ptr<WettingState> wetting;        ///< only with Effect::Wetting
   // The controller integrates gravity itself (see BuoyancyController::addBody): these restore it.
   bool usesWorldGravity = true;                 ///< the body followed the world's gravity before
   btVector3 ownGravity{0, 0, 0};                ///< m/s^2, its own gravity when it did not

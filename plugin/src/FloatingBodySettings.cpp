@@ -47,6 +47,31 @@ Eigen::Vector3d scaleAt(const std::vector<ScaleKeyframe>& keyframes, double time
   return a.scale + s * (b.scale - a.scale);
 }
 
+Status WettingBodySettings::validate() const {
+  if (resolution != 0 && (resolution < 16 || resolution > 4096)) {
+    return Error{"resolution: " + std::to_string(resolution) + " is outside 16..4096 (or 0 for the body's)"};
+  }
+  if (Status s = material.validate(); !s) return Error{"material: " + s.error().message};
+  if (Status s = physics.validate(); !s) return Error{"physics: " + s.error().message};
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const LiquidSource& source = sources[i];
+    if (!(std::isfinite(source.rate) && source.rate >= 0.0) || !source.centre.allFinite() ||
+        !source.direction.allFinite() || !(std::isfinite(source.radius) && source.radius >= 0.0) ||
+        !(source.pigment >= 0.0 && source.pigment <= 1.0)) {
+      return Error{"sources[" + std::to_string(i) + "]: rate and radius must be >= 0 and finite, pigment in 0..1"};
+    }
+  }
+  return Ok{};
+}
+
+Status FloodingBodySettings::validate() const {
+  if (Status s = graph.validate(); !s) return s;
+  if (nodeCount < 0 || nodeCount > 1024) return Error{"liquid_graph_nodes: " + std::to_string(nodeCount) + " is outside 0..1024"};
+  if (permeabilityMap && permeabilityMap->values.empty()) return Error{"permeability_map: empty image"};
+  if (manualGraph && manualGraph->nodes.empty()) return Error{"liquid_graph: no nodes"};
+  return Ok{};
+}
+
 Status FloatingBodySettings::validate() const {
   if (!mesh && meshPath.empty()) return Error{"mesh: neither a mesh nor a mesh file is given"};
   if (mesh && mesh->triangles.empty()) return Error{"mesh: the mesh has no triangles"};
@@ -88,10 +113,13 @@ Status FloatingBodySettings::validate() const {
       return Error{"scaleKeyframes[" + std::to_string(i) + "]: time must be after the previous key's"};
     }
   }
-  for (Effect reserved : {Effect::Flooding, Effect::Wetting}) {
-    if (effects.has(reserved)) {
-      return Error{"effects: '" + std::string(effectName(reserved)) + "' is not available yet"};
-    }
+  if (effects.has(Effect::Wetting)) {
+    if (Status s = wetting.validate(); !s) return Error{"wetting." + s.error().message};
+  }
+  if (effects.has(Effect::Flooding)) {
+    if (Status s = flooding.validate(); !s) return Error{"flooding." + s.error().message};
+    // The graph's spaces are cut from the registered shape once; a deforming body would outgrow them.
+    if (effects.has(Effect::Deformation)) return Error{"flooding: not available together with deformation"};
   }
   if (!finiteNonNegative(drag.advancingPressure)) return Error{"drag.advancingPressure: must be >= 0 and finite"};
   if (!finiteNonNegative(drag.retreatingPressure)) return Error{"drag.retreatingPressure: must be >= 0 and finite"};

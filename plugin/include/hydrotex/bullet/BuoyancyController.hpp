@@ -13,6 +13,7 @@
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Hydrostatics.hpp"
+#include "hydrotex/LiquidGraph.hpp"
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/MassProperties.hpp"
@@ -62,6 +63,9 @@ struct ControllerStatistics {
   std::uint64_t massUpdates = 0;          ///< mass properties recomputed and handed to Bullet (variable mass, deformation)
   std::uint64_t massTexelPasses = 0;      ///< of those, the ones that needed a texel pass (not only point masses)
   std::uint64_t deformations = 0;         ///< surfaces re-evaluated from moved vertices
+  std::uint64_t floodingSteps = 0;        ///< liquid graph steps (bodies listing Effect::Flooding)
+  std::uint64_t permeableTexelsVisited = 0; ///< permeable texels those steps evaluated
+  std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
 };
 
 /// What the controller knows about one registered body after the last step.
@@ -73,7 +77,11 @@ struct FloatingBodyReport {
   btVector3 dragTorque{0, 0, 0};     ///< last drag torque about the centre of mass (N m, world)
   double addedMass = 0.0;            ///< last added mass (kg)
   std::size_t effectMemoryBytes = 0; ///< heap held for the listed effects (0 for buoyancy-only bodies' drag)
+  double liquidVolume = 0.0;         ///< with Effect::Flooding: liquid held in the liquid graph (m^3)
   bool atRest = false;               ///< at rest afloat at the last step
+  double liquidHeld = 0.0;           ///< with Effect::Wetting: liquid held in the surface layer (m^3)
+  double liquidAbsorbed = 0.0;       ///< with Effect::Wetting: absorbed since registration (m^3)
+  double liquidEvaporated = 0.0;     ///< with Effect::Wetting: evaporated since registration (m^3)
 };
 
 class FloatingBody;
@@ -114,6 +122,13 @@ class BuoyancyController : public btActionInterface {
   /// keeping the shape in place and momentum; steps where nothing changed recompute nothing.
   MassModel* massModel(const btRigidBody* body);
 
+  /// The liquid texture of a body that lists Effect::Wetting (per covered texel of its wetting
+  /// bake; saturation() feeds gpu/shaders/wet_shading.glsl), or null.
+  const LiquidTexture* liquidTexture(const btRigidBody* body) const;
+
+  /// The liquid graph of a body that lists Effect::Flooding (nodes, held liquid, levels), or null.
+  const LiquidGraph* liquidGraph(const btRigidBody* body) const;
+
   /// Where the mesh's own frame is in the world (for rendering), or empty for an unknown body.
   std::optional<btTransform> meshTransform(const btRigidBody* body) const;
   /// Report of a registered body, or null.
@@ -144,6 +159,8 @@ class BuoyancyController : public btActionInterface {
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
   void followMassModel(FloatingBody& floating);
+  void flood(FloatingBody& floating, double dt);
+  void wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt);
 
   btDynamicsWorld& world_;
   LiquidSettings liquid_;

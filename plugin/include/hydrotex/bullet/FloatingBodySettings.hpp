@@ -16,9 +16,11 @@
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/ImageMap.hpp"
+#include "hydrotex/LiquidGraphBuilder.hpp"
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
 #include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/Wetting.hpp"
 
 namespace hydrotex::bullet {
 
@@ -28,9 +30,9 @@ enum class Effect : std::uint32_t {
   Drag = 1u << 1,          ///< per-patch pressure and skin-friction drag, rotational damping
   AddedMass = 1u << 2,     ///< the liquid the body must accelerate with it
   VariableMass = 1u << 3,  ///< mass model followed every step (point-mass paths, run-time changes)
-  Flooding = 1u << 4,      ///< reserved (a later issue); validate() refuses it for now
+  Flooding = 1u << 4,      ///< liquid enters through permeable texels into a liquid graph (FloatingBodySettings::flooding)
   Deformation = 1u << 5,   ///< vertices moved every step (callback or scale keyframes); PT/VAT re-evaluated
-  Wetting = 1u << 6,       ///< reserved (a later issue); validate() refuses it for now
+  Wetting = 1u << 6,       ///< liquid texture: absorption, diffusion, evaporation (FloatingBodySettings::wetting)
 };
 
 /// A set of effects (bit flags).
@@ -75,6 +77,35 @@ Eigen::Vector3d scaleAt(const std::vector<ScaleKeyframe>& keyframes, double time
 /// m), writes the current positions (same count and order as rest.positions) into `positions`.
 using DeformationFunction =
     std::function<void(double time, const Mesh& rest, std::vector<Eigen::Vector3d>& positions)>;
+
+/// The liquid texture of a body that lists Effect::Wetting (paper section 4).
+struct WettingBodySettings {
+  /// Texels per side of the liquid texture (16..4096); 0 takes the body's resolution.
+  int resolution = 0;
+  /// Absorbent layer: porosity, thickness (m), permeability (m^2).
+  WettingMaterial material;
+  /// Diffusivity (m^2/s), ambient humidity and temperature (K), evaporation and Darcy constants.
+  WettingSettings physics;
+  /// Rain, hoses, splashes (world frame).
+  std::vector<LiquidSource> sources;
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
+
+/// How a body that lists Effect::Flooding takes on liquid (paper section 3).
+struct FloodingBodySettings {
+  /// Permeability map (PMT; gray levels 0..1 at the texel centres of the physics atlas): black is
+  /// watertight, white lets liquid through with graph.permeability. Null: the whole surface is white.
+  std::shared_ptr<const ImageMap> permeabilityMap;
+  /// Darcy permeability of white (m^2), wall thickness (m), porosity, permeability inside, cells.
+  LiquidGraphBuildSettings graph;
+  /// Automatic graph: number of nodes (0: defaultLiquidGraphNodeCount of the mesh).
+  int nodeCount = 0;
+  /// A manual graph (mesh frame) instead of the automatic one; null: automatic.
+  std::shared_ptr<const ManualLiquidGraph> manualGraph;
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
 
 /// Which hydrostatics path a body uses.
 enum class HydrostaticsMethod {
@@ -122,6 +153,10 @@ struct FloatingBodySettings {
   double rotationalDamping = 0.3;
   /// Added-mass coefficient: m_a = this * rho * V_submerged (0.5 for a sphere), with Effect::AddedMass.
   double addedMassCoefficient = 0.5;
+  /// With Effect::Wetting: the liquid texture.
+  WettingBodySettings wetting;
+  /// With Effect::Flooding: permeability map, Darcy constants and the liquid graph.
+  FloodingBodySettings flooding;
   /// Texel normals within this cosine are merged into one drag patch per tile (0..1).
   double dragPatchNormalCosine = 0.9;
   /// Drag patches reach at most this fraction of the body's largest extent from their first texel.
