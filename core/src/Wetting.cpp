@@ -115,6 +115,17 @@ struct Wetting::ImplicitSystem {
   Eigen::VectorXd solution;
 };
 
+// A source in the body frame: rain as the unit vector against its fall (a texel's facing is then
+// n . up), a sphere by its centre.
+struct Wetting::BodySource {
+  bool rain;
+  Eigen::Vector3f up;
+  Eigen::Vector3f centre;
+  float radiusSquared;
+  float depth;  // supply over the step (m of liquid)
+  double pigment;
+};
+
 Wetting::Wetting() = default;
 Wetting::Wetting(Wetting&&) noexcept = default;
 Wetting& Wetting::operator=(Wetting&&) noexcept = default;
@@ -311,17 +322,9 @@ void Wetting::exchange(LiquidTexture& texture, const WettingEnvironment& environ
   const bool freeSurface = liquid && liquid->hasFreeSurface();
   const double flowResistance = settings_.viscosity * texture.layerThickness;  // mu L (Pa s m)
 
-  // Sources in the body frame, once per step: rain as the unit vector against its fall (the
-  // facing of a texel is then n . up), a sphere as its centre.
-  struct BodySource {
-    bool rain;
-    Eigen::Vector3f up;
-    Eigen::Vector3f centre;
-    float radiusSquared;
-    float depth;  // supply over the step (m of liquid)
-    double pigment;
-  };
-  std::vector<BodySource> sources;
+  // Sources in the body frame, once per step (kept in a member: the step allocates nothing).
+  std::vector<BodySource>& sources = bodySources_;
+  sources.clear();
   if (absorbing)
     for (const LiquidSource& source : environment.sources) {
       if (!(source.rate > 0.0)) continue;

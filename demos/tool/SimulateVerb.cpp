@@ -38,7 +38,9 @@ void writeRows(std::ostream& out, bullet::SceneWorld& sceneWorld) {
         << p.z() << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ',' << v.y()
         << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
         << (report ? report->massProperties.mass : 0.0) << ','
-        << (report ? report->hydrostatics.submergedVolume : 0.0) << ',' << 0.0 << '\n';
+        << (report ? report->hydrostatics.submergedVolume : 0.0) << ',' << 0.0 << ','
+        << (report ? report->liquidHeld : 0.0) << ',' << (report ? report->liquidAbsorbed : 0.0) << ','
+        << (report ? report->liquidEvaporated : 0.0) << '\n';
   }
 }
 
@@ -59,7 +61,7 @@ int runSimulate(const SimulateOptions& options) {
     csv.open(temporaryPath, std::ios::binary | std::ios::trunc);
     if (!csv) return reportError(Error{options.csvPath + ": cannot be written"});
     csv << std::setprecision(9);
-    csv << "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,mass,submerged_volume,liquid_volume\n";
+    csv << "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,mass,submerged_volume,liquid_volume,liquid_surface,absorbed,evaporated\n";
     writeRows(csv, sceneWorld);
   }
   const long long steps = scene->stepCount();

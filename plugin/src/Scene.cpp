@@ -149,6 +149,64 @@ Expected<SceneSurface> parseSurface(const Json& json, const std::string& path, c
   return surface;
 }
 
+// `wetting: {resolution, diffusivity, porosity, permeability, layer_thickness, humidity,
+// temperature, sources: [{type: "rain" | "sphere", rate, direction, centre, radius, pigment}]}`.
+Expected<WettingBodySettings> parseWetting(const Json& json, const std::string& path, const std::string& source) {
+  if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
+  ObjectReader reader(json, path, source);
+  WettingBodySettings wetting;
+  HYDROTEX_TRY(reader.integer("resolution", wetting.resolution));
+  if (wetting.resolution != 0 && (wetting.resolution < 16 || wetting.resolution > 4096)) {
+    return reader.error("resolution", "must lie in 16..4096 (or 0 for the body's)");
+  }
+  HYDROTEX_TRY(reader.number("diffusivity", wetting.physics.diffusivity));
+  if (!(wetting.physics.diffusivity >= 0.0)) return reader.error("diffusivity", "must be >= 0 (m^2/s)");
+  HYDROTEX_TRY(reader.number("porosity", wetting.material.porosity));
+  if (!(wetting.material.porosity >= 0.0 && wetting.material.porosity <= 1.0)) return reader.error("porosity", "must lie in 0..1");
+  HYDROTEX_TRY(reader.number("permeability", wetting.material.permeability));
+  if (!(wetting.material.permeability >= 0.0)) return reader.error("permeability", "must be >= 0 (m^2)");
+  HYDROTEX_TRY(reader.number("layer_thickness", wetting.material.layerThickness));
+  if (!(wetting.material.layerThickness > 0.0)) return reader.error("layer_thickness", "must be > 0 (m)");
+  HYDROTEX_TRY(reader.number("humidity", wetting.physics.relativeHumidity));
+  if (!(wetting.physics.relativeHumidity >= 0.0 && wetting.physics.relativeHumidity <= 1.0)) {
+    return reader.error("humidity", "must lie in 0..1 (relative humidity)");
+  }
+  HYDROTEX_TRY(reader.number("temperature", wetting.physics.temperature));
+  if (!(wetting.physics.temperature > 200.0 && wetting.physics.temperature < 400.0)) {
+    return reader.error("temperature", "must lie in 200..400 (K)");
+  }
+  if (const Json* sources = reader.find("sources")) {
+    if (!sources->is_array()) return reader.error("sources", "expected an array of {type, rate, ...}");
+    for (std::size_t i = 0; i < sources->size(); ++i) {
+      const std::string sourcePath = reader.keyPath("sources") + "[" + std::to_string(i) + "]";
+      if (!(*sources)[i].is_object()) return Error{source + ": " + sourcePath + ": expected an object"};
+      ObjectReader sourceReader((*sources)[i], sourcePath, source);
+      LiquidSource liquidSource;
+      std::string type = "rain";
+      HYDROTEX_TRY(sourceReader.string("type", type));
+      if (type == "rain") {
+        liquidSource.kind = LiquidSourceKind::Rain;
+      } else if (type == "sphere") {
+        liquidSource.kind = LiquidSourceKind::Sphere;
+      } else {
+        return sourceReader.error("type", "'" + type + "' is not one of rain, sphere");
+      }
+      HYDROTEX_TRY(sourceReader.number("rate", liquidSource.rate));
+      if (!(liquidSource.rate >= 0.0)) return sourceReader.error("rate", "must be >= 0 (m/s of liquid)");
+      HYDROTEX_TRY(sourceReader.vector<3>("direction", liquidSource.direction));
+      HYDROTEX_TRY(sourceReader.vector<3>("centre", liquidSource.centre));
+      HYDROTEX_TRY(sourceReader.number("radius", liquidSource.radius));
+      if (!(liquidSource.radius >= 0.0)) return sourceReader.error("radius", "must be >= 0 (m)");
+      HYDROTEX_TRY(sourceReader.number("pigment", liquidSource.pigment));
+      if (!(liquidSource.pigment >= 0.0 && liquidSource.pigment <= 1.0)) return sourceReader.error("pigment", "must lie in 0..1");
+      HYDROTEX_TRY(sourceReader.rejectUnknown());
+      wetting.sources.push_back(liquidSource);
+    }
+  }
+  HYDROTEX_TRY(reader.rejectUnknown());
+  return wetting;
+}
+
 Expected<SceneBody> parseBody(const Json& json, const std::string& path, const std::string& source,
                               const std::string& baseDirectory) {
   if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
@@ -279,6 +337,14 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
     }
   } else if (body.effects.has(Effect::Deformation)) {
     return reader.error("effects", "'deformation' needs a deform key");
+  }
+  if (const Json* wetting = reader.find("wetting")) {
+    if (Expected<WettingBodySettings> parsed = parseWetting(*wetting, reader.keyPath("wetting"), source); parsed) {
+      body.wetting = std::move(parsed).value();
+    } else {
+      return parsed.error();
+    }
+    if (!body.effects.has(Effect::Wetting)) return reader.error("wetting", "needs \"wetting\" in effects");
   }
   HYDROTEX_TRY(reader.rejectUnknown());
   const bool hollow = body.shellDensity > 0.0 || body.densityMap != nullptr;
@@ -448,6 +514,7 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     settings.densityRange = sceneBody.densityRange;
     settings.pointMasses = sceneBody.pointMasses;
     settings.scaleKeyframes = sceneBody.scaleKeyframes;
+    settings.wetting = sceneBody.wetting;
     if (Status s = self->controller_->addBody(body.get(), settings); !s) return Error{prefix + s.error().message};
     body->setLinearVelocity(toBullet(sceneBody.linearVelocity));
     body->setAngularVelocity(toBullet(sceneBody.angularVelocity));

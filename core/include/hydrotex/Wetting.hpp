@@ -148,6 +148,8 @@ class Wetting {
   std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
   std::vector<double> pairGeometric_;        // g_ij of those pairs (dimensionless)
   std::vector<float> pairConductance_;       // D g_ij (m^2/s)
+  struct BodySource;
+  std::vector<BodySource> bodySources_;      // scratch: this step's sources in the body frame
   std::vector<float> delta_;                 // scratch: volume change per texel (m^3)
   std::vector<float> pigmentDelta_;
   std::unique_ptr<ImplicitSystem> implicit_;

@@ -42,6 +42,7 @@ struct SceneBody {
   std::array<double, 2> densityRange{0.0, 0.0};              ///< kg/m^3 for black and white (`density_range`)
   std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
+  WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
 };
 
 /// The liquid's free surface.
