@@ -383,7 +383,8 @@ Vector3d dollAlbedo(const Vector3d& p, const Vector3d&) {
 }
 
 // Hot-air balloon: envelope 2 m across (deflated it is still this shape; the scene scales it) and
-// a wicker basket hanging below (mesh origin at the envelope's centre).
+// a wicker basket hanging below. The mesh origin is the basket's floor, so that a scale animation
+// about the origin inflates the balloon upwards from the ground.
 Mesh makeBalloon() {
   namespace prim = hydrotex::primitives;
   std::vector<Vector2d> envelope;
@@ -394,11 +395,13 @@ Mesh makeBalloon() {
   }
   envelope.front() = {0.0, -1.25};
   envelope.insert(envelope.begin() + 1, Vector2d(0.18, -1.25));  // the mouth's flat ring
-  return combine({{lathe(envelope, 48, false, "envelope"), {0.0, 0.2, 1.0, 1.0}},
-                  {translated(prim::box(Vector3d(0.5, 0.4, 0.5)), Vector3d(0, -1.75, 0)), {0.0, 0.0, 0.4, 0.2}}},
-                 "hot-air balloon");
+  return translated(combine({{lathe(envelope, 48, false, "envelope"), {0.0, 0.2, 1.0, 1.0}},
+                             {translated(prim::box(Vector3d(0.5, 0.4, 0.5)), Vector3d(0, -1.75, 0)), {0.0, 0.0, 0.4, 0.2}}},
+                            "hot-air balloon"),
+                    Vector3d(0, 1.95, 0));
 }
-Vector3d balloonAlbedo(const Vector3d& p, const Vector3d&) {
+Vector3d balloonAlbedo(const Vector3d& position, const Vector3d&) {
+  const Vector3d p = position - Vector3d(0, 1.95, 0);  // envelope-centred
   if (p.y() < -1.4) return rgb(150, 110, 60) * (0.8 + 0.2 * hashNoise(p, 40.0));  // basket
   const double azimuth = std::atan2(p.z(), p.x()) + kPi;
   const int gore = static_cast<int>(azimuth / (2 * kPi) * 12);

@@ -67,6 +67,7 @@ Expected<DemoDescription> loadDemoDescription(const std::string& path) {
       }
       demo.camera.verticalFovDegrees = camera.value("fov", 40.0);
       demo.followBody = camera.value("follow", "");
+      demo.followVertical = camera.value("follow_vertical", false);
     }
     if (json.contains("overlays")) {
       demo.drawForces = json.at("overlays").value("forces", true);

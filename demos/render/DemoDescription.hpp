@@ -37,6 +37,7 @@ struct DemoDescription {
   int height = 360;                      ///< pixels
   Camera camera;                         ///< initial camera
   std::string followBody;                ///< body the camera target follows (empty: fixed)
+  bool followVertical = false;           ///< follow it up and down too (a balloon), not only across the water
   bool drawForces = true;                ///< weight and buoyancy arrows, waterline
   bool drawPointMasses = true;           ///< crosses at point masses
   double forceArrowLength = 2.0;         ///< m: the weight arrow is drawn this long (buoyancy to the same scale)

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <unistd.h>
 
 #include "ContactSheet.hpp"
 #include "DebugLineCollector.hpp"
@@ -43,6 +44,13 @@ struct BodyFigures {
 
 void printProgress(int done, int total, double simulated, double elapsed) {
   constexpr int width = 30;
+  // Redrawn in place on a terminal; in a log (CI, a pipe) one line per tenth.
+  static const bool terminal = isatty(fileno(stderr)) != 0;
+  if (!terminal) {
+    if (total > 0 && done != total && (done * 10) / total == ((done - 1) * 10) / total) return;
+    std::fprintf(stderr, "  %3d%%  t = %6.2f s  (%5.1f s taken)\n", total > 0 ? done * 100 / total : 100, simulated, elapsed);
+    return;
+  }
   const int filled = total > 0 ? done * width / total : width;
   std::fprintf(stderr, "\r  [%.*s%*s] %3d%%  t = %6.2f s  (%5.1f s taken)", filled, "##############################",
                width - filled, "", total > 0 ? done * 100 / total : 100, simulated, elapsed);
@@ -184,6 +192,22 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     figures.push_back(bodyFigures);
   }
 
+  // The ground (a scene's seabed, or the field a balloon stands on): a wide flat box whose top is
+  // the floor Bullet collides with.
+  std::optional<BodyInstance> ground;
+  if (scene->seabed) {
+    const bool underWater = scene->surface.type != bullet::SceneSurface::Type::None;
+    const RgbImage colour = underWater ? RgbImage{1, 1, {150, 135, 100}} : RgbImage{1, 1, {95, 135, 70}};
+    Expected<int> id = (*renderer)->addBody(primitives::box(Eigen::Vector3d(400.0, 0.2, 400.0)), &colour, nullptr, Palette::Heat);
+    if (!id) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", id.error().message.c_str());
+      return 1;
+    }
+    Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+    model(1, 3) = static_cast<float>(*scene->seabed - 0.1);
+    ground = BodyInstance{*id, model, 0.0f};
+  }
+
   // Frames and the steps between them.
   const long long totalSteps = scene->stepCount();
   const int defaultFrames = std::max(1, static_cast<int>(std::lround(scene->duration * demo.fps)));
@@ -215,8 +239,8 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     input.camera = demo.camera;
     if (followStart) {
       const btVector3 moved = sceneWorld.controller().meshTransform(sceneWorld.bodies()[std::size_t(followIndex)])->getOrigin() - followStart->getOrigin();
-      // Follow horizontally only: the water level stays put in the picture.
-      const Eigen::Vector3d shift(moved.x(), 0.0, moved.z());
+      // Horizontally only unless asked: the water level stays put in the picture.
+      const Eigen::Vector3d shift(moved.x(), demo.followVertical ? moved.y() : 0.0, moved.z());
       input.camera.eye += shift;
       input.camera.target += shift;
     }
@@ -261,6 +285,7 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
         f.tiltDegrees = std::acos(std::clamp(double(upAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
       }
     }
+    if (ground) input.bodies.push_back(*ground);
     input.lines = lines.lines();
     const auto renderStart = std::chrono::steady_clock::now();
     Expected<RgbImage> picture = (*renderer)->render(input);
