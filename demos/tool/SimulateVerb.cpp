@@ -38,7 +38,7 @@ void writeRows(std::ostream& out, bullet::SceneWorld& sceneWorld) {
         << p.z() << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ',' << v.y()
         << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ','
         << (report ? report->massProperties.mass : 0.0) << ','
-        << (report ? report->hydrostatics.submergedVolume : 0.0) << ',' << 0.0 << ','
+        << (report ? report->hydrostatics.submergedVolume : 0.0) << ',' << (report ? report->liquidVolume : 0.0) << ','
         << (report ? report->liquidHeld : 0.0) << ',' << (report ? report->liquidAbsorbed : 0.0) << ','
         << (report ? report->liquidEvaporated : 0.0) << '\n';
   }

@@ -107,6 +107,106 @@ class ObjectReader {
     if (Status s_ = (expr); !s_) return s_.error(); \
   } while (false)
 
+// A manual liquid graph file: {"nodes": [{"position": [x, y, z], "capacity": m^3}],
+// "edges": [{"nodes": [a, b], "permeability": m^2, "area": m^2, "length": m}]} (mesh frame;
+// capacity, area and length optional).
+Expected<ManualLiquidGraph> loadLiquidGraphFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{path + ": cannot be read"};
+  Json json;
+  try {
+    json = Json::parse(in);
+  } catch (const std::exception& e) {
+    return Error{path + ": not valid JSON: " + e.what()};
+  }
+  if (!json.is_object()) return Error{path + ": expected an object with nodes and edges"};
+  ObjectReader reader(json, "", path);
+  ManualLiquidGraph graph;
+  const Json* nodes = reader.find("nodes");
+  if (nodes == nullptr || !nodes->is_array() || nodes->empty()) return reader.error("nodes", "expected a non-empty array");
+  for (std::size_t i = 0; i < nodes->size(); ++i) {
+    const std::string nodePath = "nodes[" + std::to_string(i) + "]";
+    if (!(*nodes)[i].is_object()) return Error{path + ": " + nodePath + ": expected an object"};
+    ObjectReader nodeReader((*nodes)[i], nodePath, path);
+    ManualLiquidNode node;
+    if ((*nodes)[i].find("position") == (*nodes)[i].end()) return nodeReader.error("position", "missing ([x, y, z] m)");
+    HYDROTEX_TRY(nodeReader.vector<3>("position", node.position));
+    HYDROTEX_TRY(nodeReader.optionalNumber("capacity", node.capacity));
+    if (node.capacity && !(*node.capacity >= 0.0)) return nodeReader.error("capacity", "must be >= 0 (m^3)");
+    HYDROTEX_TRY(nodeReader.rejectUnknown());
+    graph.nodes.push_back(node);
+  }
+  if (const Json* edges = reader.find("edges")) {
+    if (!edges->is_array()) return reader.error("edges", "expected an array");
+    for (std::size_t e = 0; e < edges->size(); ++e) {
+      const std::string edgePath = "edges[" + std::to_string(e) + "]";
+      const Json& item = (*edges)[e];
+      if (!item.is_object()) return Error{path + ": " + edgePath + ": expected an object"};
+      ObjectReader edgeReader(item, edgePath, path);
+      ManualLiquidEdge edge;
+      const Json* pair = edgeReader.find("nodes");
+      if (pair == nullptr || !pair->is_array() || pair->size() != 2 || !(*pair)[0].is_number_unsigned() ||
+          !(*pair)[1].is_number_unsigned()) {
+        return edgeReader.error("nodes", "expected [a, b] (node indices)");
+      }
+      const auto a = (*pair)[0].get<std::uint64_t>(), b = (*pair)[1].get<std::uint64_t>();
+      if (a >= graph.nodes.size() || b >= graph.nodes.size() || a == b) {
+        return edgeReader.error("nodes", "must name two different nodes of the file");
+      }
+      edge.first = std::uint32_t(a);
+      edge.second = std::uint32_t(b);
+      HYDROTEX_TRY(edgeReader.number("permeability", edge.permeability));
+      if (!(edge.permeability >= 0.0)) return edgeReader.error("permeability", "must be >= 0 (m^2)");
+      HYDROTEX_TRY(edgeReader.optionalNumber("area", edge.area));
+      if (edge.area && !(*edge.area > 0.0)) return edgeReader.error("area", "must be > 0 (m^2)");
+      HYDROTEX_TRY(edgeReader.optionalNumber("length", edge.length));
+      if (edge.length && !(*edge.length > 0.0)) return edgeReader.error("length", "must be > 0 (m)");
+      HYDROTEX_TRY(edgeReader.rejectUnknown());
+      graph.edges.push_back(edge);
+    }
+  }
+  HYDROTEX_TRY(reader.rejectUnknown());
+  return graph;
+}
+
+/// The flooding keys of a body (paper section 3); they need "flooding" in effects.
+Status parseFlooding(ObjectReader& reader, const std::string& baseDirectory, SceneBody& body) {
+  FloodingBodySettings& flooding = body.flooding;
+  std::string permeabilityMap, graph = "auto";
+  HYDROTEX_TRY(reader.string("permeability_map", permeabilityMap));
+  HYDROTEX_TRY(reader.number("permeability", flooding.graph.permeability));
+  HYDROTEX_TRY(reader.number("wall_thickness", flooding.graph.wallThickness));
+  HYDROTEX_TRY(reader.number("porosity", flooding.graph.porosity));
+  HYDROTEX_TRY(reader.number("interior_permeability", flooding.graph.interiorPermeability));
+  HYDROTEX_TRY(reader.string("liquid_graph", graph));
+  HYDROTEX_TRY(reader.integer("liquid_graph_nodes", flooding.nodeCount));
+  const bool anyKey = !permeabilityMap.empty() || reader.find("permeability") || reader.find("wall_thickness") ||
+                      reader.find("porosity") || reader.find("interior_permeability") || reader.find("liquid_graph") ||
+                      reader.find("liquid_graph_nodes");
+  if (!body.effects.has(Effect::Flooding)) {
+    if (anyKey) return reader.error("effects", "flooding keys need \"flooding\" in effects");
+    return Ok{};
+  }
+  if (!(flooding.graph.permeability >= 0.0)) return reader.error("permeability", "must be >= 0 (m^2)");
+  if (!(flooding.graph.wallThickness > 0.0)) return reader.error("wall_thickness", "must be > 0 (m)");
+  if (!(flooding.graph.porosity >= 0.0 && flooding.graph.porosity <= 1.0)) return reader.error("porosity", "must lie in 0..1");
+  if (!(flooding.graph.interiorPermeability >= 0.0)) return reader.error("interior_permeability", "must be >= 0 (m^2)");
+  if (flooding.nodeCount < 0 || flooding.nodeCount > 1024) return reader.error("liquid_graph_nodes", "must lie in 0..1024");
+  if (!permeabilityMap.empty()) {
+    const std::filesystem::path mapPath = std::filesystem::path(baseDirectory) / permeabilityMap;
+    Expected<ImageMap> image = loadImageMap(mapPath.string());
+    if (!image) return reader.error("permeability_map", image.error().message);
+    flooding.permeabilityMap = std::make_shared<const ImageMap>(std::move(image).value());
+  }
+  if (graph != "auto") {
+    const std::filesystem::path graphPath = std::filesystem::path(baseDirectory) / graph;
+    Expected<ManualLiquidGraph> manual = loadLiquidGraphFile(graphPath.string());
+    if (!manual) return reader.error("liquid_graph", manual.error().message);
+    flooding.manualGraph = std::make_shared<const ManualLiquidGraph>(std::move(manual).value());
+  }
+  return Ok{};
+}
+
 Expected<SceneSurface> parseSurface(const Json& json, const std::string& path, const std::string& source) {
   if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
   ObjectReader reader(json, path, source);
@@ -338,6 +438,7 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
   } else if (body.effects.has(Effect::Deformation)) {
     return reader.error("effects", "'deformation' needs a deform key");
   }
+  HYDROTEX_TRY(parseFlooding(reader, baseDirectory, body));
   if (const Json* wetting = reader.find("wetting")) {
     if (Expected<WettingBodySettings> parsed = parseWetting(*wetting, reader.keyPath("wetting"), source); parsed) {
       body.wetting = std::move(parsed).value();
@@ -515,6 +616,7 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     settings.pointMasses = sceneBody.pointMasses;
     settings.scaleKeyframes = sceneBody.scaleKeyframes;
     settings.wetting = sceneBody.wetting;
+    settings.flooding = sceneBody.flooding;
     if (Status s = self->controller_->addBody(body.get(), settings); !s) return Error{prefix + s.error().message};
     body->setLinearVelocity(toBullet(sceneBody.linearVelocity));
     body->setAngularVelocity(toBullet(sceneBody.angularVelocity));

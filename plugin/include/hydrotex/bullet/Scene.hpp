@@ -43,6 +43,7 @@ struct SceneBody {
   std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
   WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
+  FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `liquid_graph`, `liquid_graph_nodes`
 };
 
 /// The liquid's free surface.
