@@ -327,9 +327,9 @@ Vector3d shipDamage(const Vector3d& p, const Vector3d& n, bool bow) {
   };
   double level = 0.0;
   if (bow) {
-    level = p.z() >= 0 ? blob(Vector3d(3.0, -0.75, 0.2), 0.55) : 0.0;
+    level = p.z() >= 0 ? blob(Vector3d(3.0, -0.9, 0.15), 0.55) : 0.0;
   } else {
-    level = std::max(blob(Vector3d(-3.1, -0.7, 0.2), 0.5), blob(Vector3d(-3.1, -0.7, -0.2), 0.5));
+    level = std::max(blob(Vector3d(-3.1, -0.9, 0.15), 0.5), blob(Vector3d(-3.1, -0.9, -0.15), 0.5));
   }
   return Vector3d::Constant(level);
 }
