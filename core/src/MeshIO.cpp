@@ -11,6 +11,8 @@
 #include <assimp/scene.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -205,6 +207,11 @@ std::string exportFormatFor(std::string extension) {
   return {};
 }
 
+// No aiProcess_FindDegenerates / FindInvalidData: degenerate triangles and bad values must reach
+// the validator and the checks in convertScene instead of being silently dropped or patched.
+constexpr unsigned kImportFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                                  aiProcess_ValidateDataStructure;
+
 }  // namespace
 
 Expected<Mesh> loadMesh(const std::string& path) {
@@ -222,13 +229,28 @@ Expected<Mesh> loadMesh(const std::string& path) {
   if (!std::ifstream(path, std::ios::binary).good()) return fileError(path, "file cannot be opened for reading");
 
   Assimp::Importer importer;
-  // No aiProcess_FindDegenerates / FindInvalidData: degenerate triangles and bad values must reach
-  // the validator and the checks below instead of being silently dropped or patched.
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                         aiProcess_ValidateDataStructure;
-  const aiScene* scene = importer.ReadFile(path, flags);
+  const aiScene* scene = importer.ReadFile(path, kImportFlags);
   if (scene == nullptr) return fileError(path, "not a readable mesh: " + oneLine(importer.GetErrorString()));
   return convertScene(*scene, path);
+}
+
+Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std::string& formatHint,
+                                  const std::string& name) {
+  if (bytes == nullptr || size == 0) return fileError(name, "file is empty");
+  if (size > kMaxMeshFileBytes)
+    return fileError(name, "file of " + std::to_string(size) + " bytes exceeds the " +
+                               std::to_string(kMaxMeshFileBytes) + "-byte limit");
+  // The hint becomes the extension of assimp's in-memory file name: letters and digits only.
+  const bool hintIsExtension = formatHint.size() <= 16 && std::all_of(formatHint.begin(), formatHint.end(), [](char c) {
+                                 return std::isalnum(static_cast<unsigned char>(c)) != 0;
+                               });
+  if (!hintIsExtension)
+    return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
+  Assimp::Importer importer;
+  const aiScene* scene =
+      importer.ReadFileFromMemory(bytes, size, kImportFlags, formatHint.empty() ? "" : formatHint.c_str());
+  if (scene == nullptr) return fileError(name, "not a readable mesh: " + oneLine(importer.GetErrorString()));
+  return convertScene(*scene, name);
 }
 
 Status saveMesh(const Mesh& mesh, const std::string& path) {

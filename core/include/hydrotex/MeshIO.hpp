@@ -28,6 +28,13 @@ inline constexpr double kMaxMeshCoordinate = 1e12;
 /// coordinates beyond kMaxMeshCoordinate.
 Expected<Mesh> loadMesh(const std::string& path);
 
+/// loadMesh for a file already in memory (`size` bytes at `bytes`: a download, an archive entry, a
+/// fuzzer's input). `formatHint` is the file extension that picks assimp's reader, without the dot
+/// ("obj", "stl", "glb", ...); messages start with `name`. A format that refers to other files (an
+/// OBJ's .mtl, a glTF's .bin) looks for them in the current directory. Same errors as loadMesh.
+Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std::string& formatHint,
+                                  const std::string& name);
+
 /// Writes `mesh` (with its UVs when it has them) in the format given by the extension of `path`:
 /// .obj (plus a .mtl beside it), .gltf (plus a .bin), .glb, .ply (ASCII), .stl (binary).
 /// Coordinates are written as 32-bit floats (what every one of these formats stores).
