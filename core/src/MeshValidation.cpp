@@ -352,8 +352,16 @@ std::string MeshReport::summary() const {
 Status requireClosed(const MeshReport& report, const std::string& what) {
   const EdgeTopology topology{report.boundaryEdges, report.nonManifoldEdges, report.inconsistentEdges};
   if (Status closed = describeClosedness(topology, report.triangleCount, what); !closed) return closed;
-  if (!report.outwardOriented)
+  if (!report.outwardOriented) {
+    // A closed but flat (or collinear) mesh has a volume of zero up to rounding, of either sign:
+    // calling it inside out would send the user flipping triangles that are not the problem.
+    const double extent = (report.boundsMax - report.boundsMin).norm();
+    const double volume = report.volume.value_or(0.0);
+    if (std::abs(volume) <= kDegenerateRelativeTolerance * extent * extent * extent)
+      return Error{what + ": mesh encloses no volume (" + std::to_string(volume) +
+                   " m^3: flat or degenerate); volume and buoyancy need a solid"};
     return Error{what + ": mesh is inside out (negative volume); flip the winding of every triangle"};
+  }
   return Ok{};
 }
 
