@@ -124,7 +124,7 @@ Status MassModel::setGeometry(const SurfaceTextures& textures) {
   if (!distributed_.texelDensity.empty() && textures.size() != integrator_.size())
     return Error{"deformed surface has " + std::to_string(textures.size()) + " texels, the density map " +
                  std::to_string(integrator_.size())};
-  integrator_ = TextureMassIntegrator(textures, referencePoint_);
+  integrator_.update(textures);  // in place: a deforming body allocates nothing per step
   distributedRevision_ = ++revision_;
   return Ok{};
 }

@@ -19,18 +19,6 @@ namespace {
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
 
-void addTexelMoments(Moments& m, const Texel& t) {
-  const double p[3] = {t.position[0], t.position[1], t.position[2]};
-  const double pairs[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
-  m.sumArea += t.area;
-  for (int k = 0; k < 3; ++k) {
-    const double a = t.areaVector[k];
-    m.sumA[k] += a;
-    for (int i = 0; i < 3; ++i) m.sumPA[i][k] += p[i] * a;
-    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][k] += pairs[pair] * a;
-  }
-}
-
 /// The world-frame quantities of one texel under a rigid pose: x' = R p + offset, A' = R A.
 struct PosedTexel {
   double x, y, z, ax, ay, az;
@@ -162,6 +150,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   for (std::size_t t = 1; t < tileCount.size(); ++t) tileCount[t] += tileCount[t - 1];
   std::vector<std::uint32_t> cursor(tileCount.begin(), tileCount.end() - 1);
   out.texels_.resize(count);
+  out.source_.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     const Eigen::Vector3f& p = textures.position[i];
     const Eigen::Vector3f& a = textures.areaVector[i];
@@ -169,66 +158,171 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     const Eigen::Vector3f& v = textures.edgeV[i];
     if (!p.allFinite() || !a.allFinite() || !u.allFinite() || !v.allFinite() || !std::isfinite(textures.area[i]))
       return Error{"texture hydrostatics: texel " + std::to_string(i) + " has a non-finite value"};
+    out.source_[cursor[tileOf[i]]] = std::uint32_t(i);
     out.texels_[cursor[tileOf[i]]++] = Texel{{p.x(), p.y(), p.z()}, {a.x(), a.y(), a.z()}, textures.area[i],
                                              {u.x(), u.y(), u.z()}, {v.x(), v.y(), v.z()}};
   }
+  out.width_ = bake.width;
+  out.height_ = bake.height;
 
-  Eigen::Vector3d bodyLow = Eigen::Vector3d::Constant(INFINITY), bodyHigh = Eigen::Vector3d::Constant(-INFINITY);
-  double tripleVolume = 0.0;
-  Eigen::Vector3d groupLow = Eigen::Vector3d::Zero(), groupHigh = Eigen::Vector3d::Zero();
+  // Tiles and groups (texel and tile ranges); their moments and bounds come from refresh().
   std::size_t lastGroup = 0;
   for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
     if (tileCount[t] == tileCount[t + 1]) continue;
     Tile tile;
     tile.begin = tileCount[t];
     tile.end = tileCount[t + 1];
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
-    for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
-      const Texel& texel = out.texels_[i];
-      addTexelMoments(tile.moments, texel);
-      const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
-      // The patch p + s eU + t eV lies within p +- (|eU| + |eV|) / 2 per axis.
-      const Eigen::Vector3d reach =
-          0.5 * (Eigen::Vector3d(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]).cwiseAbs() +
-                 Eigen::Vector3d(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]).cwiseAbs());
-      low = low.cwiseMin(p - reach);
-      high = high.cwiseMax(p + reach);
-      tripleVolume += p.dot(Eigen::Vector3d(texel.areaVector[0], texel.areaVector[1], texel.areaVector[2]));
-    }
-    tile.boundsCenter = 0.5 * (low + high);
-    tile.boundsHalfExtent = 0.5 * (high - low);
-    out.total_.add(tile.moments);
-    bodyLow = bodyLow.cwiseMin(low);
-    bodyHigh = bodyHigh.cwiseMax(high);
     // A new group starts at the first tile of another group index.
     const std::size_t group = t / tilesPerGroup;
     if (out.groups_.empty() || group != lastGroup) {
       Tile first;
       first.begin = first.end = std::uint32_t(out.tiles_.size());
       out.groups_.push_back(first);
-      groupLow = low;
-      groupHigh = high;
       lastGroup = group;
     }
-    Tile& current = out.groups_.back();
-    current.end = std::uint32_t(out.tiles_.size() + 1);
-    current.moments.add(tile.moments);
-    groupLow = groupLow.cwiseMin(low);
-    groupHigh = groupHigh.cwiseMax(high);
-    current.boundsCenter = 0.5 * (groupLow + groupHigh);
-    current.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
+    out.groups_.back().end = std::uint32_t(out.tiles_.size() + 1);
     out.tiles_.push_back(tile);
   }
   if (out.tiles_.empty()) return Error{"texture hydrostatics: the bake covers no texel"};
-  out.boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
-  out.boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);
-  out.enclosedVolume_ = tripleVolume / 3.0;
+  out.refresh();
   return out;
+}
+
+namespace {
+
+// Texels per chunk of a tile's moment sums, and lanes within a chunk: the texels are copied to
+// structure-of-arrays doubles and summed in independent lanes that the compiler keeps in SIMD
+// registers (no reassociation needed), then the lanes are added. Double throughout: the hierarchy
+// must give the brute-force sums to double rounding (test_texture_hydrostatics).
+constexpr std::uint32_t kChunk = 16;
+constexpr std::uint32_t kLanes = 2;
+constexpr int kSums = 31;  // area, A (3), p_i A_k (9), p_i p_j A_k (18)
+
+// Adds the moments of the first `count` (at most kChunk) of `texels` to `m`.
+void addChunkMoments(Moments& m, const Texel* texels, std::uint32_t count) {
+  double x[kChunk] = {}, y[kChunk] = {}, z[kChunk] = {}, ax[kChunk] = {}, ay[kChunk] = {}, az[kChunk] = {},
+         area[kChunk] = {};
+  for (std::uint32_t i = 0; i < count; ++i) {  // to structure of arrays; the padding stays zero
+    const Texel& t = texels[i];
+    x[i] = t.position[0];
+    y[i] = t.position[1];
+    z[i] = t.position[2];
+    ax[i] = t.areaVector[0];
+    ay[i] = t.areaVector[1];
+    az[i] = t.areaVector[2];
+    area[i] = t.area;
+  }
+  double acc[kSums][kLanes] = {};
+  for (std::uint32_t i = 0; i < kChunk; i += kLanes) {
+    for (std::uint32_t l = 0; l < kLanes; ++l) {
+      const std::uint32_t k = i + l;
+      const double p[3] = {x[k], y[k], z[k]};
+      const double a[3] = {ax[k], ay[k], az[k]};
+      const double pairs[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
+      acc[0][l] += area[k];
+      for (int c = 0; c < 3; ++c) {
+        acc[1 + c][l] += a[c];
+        for (int row = 0; row < 3; ++row) acc[4 + 3 * row + c][l] += p[row] * a[c];
+        for (int pair = 0; pair < 6; ++pair) acc[13 + 3 * pair + c][l] += pairs[pair] * a[c];
+      }
+    }
+  }
+  double sum[kSums];
+  for (int j = 0; j < kSums; ++j) sum[j] = acc[j][0] + acc[j][1];
+  m.sumArea += sum[0];
+  for (int c = 0; c < 3; ++c) {
+    m.sumA[c] += sum[1 + c];
+    for (int row = 0; row < 3; ++row) m.sumPA[row][c] += sum[4 + 3 * row + c];
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][c] += sum[13 + 3 * pair + c];
+  }
+}
+
+}  // namespace
+
+void TextureHydrostatics::refresh() {
+  Eigen::Vector3d bodyLow = Eigen::Vector3d::Constant(INFINITY), bodyHigh = Eigen::Vector3d::Constant(-INFINITY);
+  double tripleVolume = 0.0;
+  total_ = Moments{};
+  for (Tile& group : groups_) {
+    Eigen::Vector3d groupLow = Eigen::Vector3d::Constant(INFINITY), groupHigh = Eigen::Vector3d::Constant(-INFINITY);
+    group.moments = Moments{};
+    for (std::uint32_t g = group.begin; g < group.end; ++g) {
+      Tile& tile = tiles_[g];
+      tile.moments = Moments{};
+      for (std::uint32_t c = tile.begin; c < tile.end; c += kChunk)
+        addChunkMoments(tile.moments, texels_.data() + c, std::min(kChunk, tile.end - c));
+      // Bounds in float (the texels are float), widened below by a few float ulps.
+      float low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
+      for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+        const Texel& texel = texels_[i];
+        for (int c = 0; c < 3; ++c) {
+          // The patch p + s eU + t eV lies within p +- (|eU| + |eV|) / 2 per axis.
+          const float reach = 0.5f * (std::fabs(texel.edgeU[c]) + std::fabs(texel.edgeV[c]));
+          low[c] = std::min(low[c], texel.position[c] - reach);
+          high[c] = std::max(high[c], texel.position[c] + reach);
+        }
+      }
+      tripleVolume += tile.moments.sumPA[0][0] + tile.moments.sumPA[1][1] + tile.moments.sumPA[2][2];
+      Eigen::Vector3d lowD(low[0], low[1], low[2]), highD(high[0], high[1], high[2]);
+      const Eigen::Vector3d slack = 1e-6 * (highD - lowD).cwiseAbs() + 1e-7 * (lowD.cwiseAbs() + highD.cwiseAbs());
+      lowD -= slack;
+      highD += slack;
+      tile.boundsCenter = 0.5 * (lowD + highD);
+      tile.boundsHalfExtent = 0.5 * (highD - lowD);
+      group.moments.add(tile.moments);
+      groupLow = groupLow.cwiseMin(lowD);
+      groupHigh = groupHigh.cwiseMax(highD);
+    }
+    group.boundsCenter = 0.5 * (groupLow + groupHigh);
+    group.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
+    total_.add(group.moments);
+    bodyLow = bodyLow.cwiseMin(groupLow);
+    bodyHigh = bodyHigh.cwiseMax(groupHigh);
+  }
+  boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
+  boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);
+  enclosedVolume_ = tripleVolume / 3.0;
+}
+
+Status TextureHydrostatics::update(const SurfaceTextures& textures) {
+  const std::size_t count = texels_.size();
+  if (textures.size() != count || textures.areaVector.size() != count || textures.area.size() != count ||
+      textures.edgeU.size() != count || textures.edgeV.size() != count) {
+    valid_ = false;
+    return Error{"texture hydrostatics: moved textures hold " + std::to_string(textures.size()) +
+                 " texels, the build had " + std::to_string(count)};
+  }
+  if (textures.width != width_ || textures.height != height_) {
+    valid_ = false;
+    return Error{"texture hydrostatics: moved textures differ in resolution from the build"};
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint32_t from = source_[i];
+    Texel& t = texels_[i];
+    const Eigen::Vector3f& p = textures.position[from];
+    const Eigen::Vector3f& a = textures.areaVector[from];
+    const Eigen::Vector3f& u = textures.edgeU[from];
+    const Eigen::Vector3f& v = textures.edgeV[from];
+    t = Texel{{p.x(), p.y(), p.z()}, {a.x(), a.y(), a.z()}, textures.area[from],
+              {u.x(), u.y(), u.z()}, {v.x(), v.y(), v.z()}};
+  }
+  refresh();
+  // A non-finite texel value reaches the body's moments or bounds: one check instead of 13 per texel.
+  bool finite = std::isfinite(total_.sumArea) && boundsCenter_.allFinite() && boundsHalfExtent_.allFinite();
+  for (int k = 0; k < 3 && finite; ++k) {
+    finite = std::isfinite(total_.sumA[k]);
+    for (int i = 0; i < 3; ++i) finite = finite && std::isfinite(total_.sumPA[i][k]);
+    for (int pair = 0; pair < 6; ++pair) finite = finite && std::isfinite(total_.sumPPA[pair][k]);
+  }
+  valid_ = finite;
+  if (!finite) return Error{"texture hydrostatics: a moved texel has a non-finite value"};
+  return Ok{};
 }
 
 Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& surface, const HydrostaticsQuery& q,
                                                         TexelTraversal traversal) const {
   if (Status valid = validateHydrostaticsQuery(surface, q); !valid) return valid.error();
+  if (!valid_) return Error{"texture hydrostatics: the last update had a non-finite or mismatched texel"};
   const Eigen::Matrix3d& r = q.pose.rotation;
   const Eigen::Vector3d& t = q.pose.translation;
   detail::WettedSums sums;

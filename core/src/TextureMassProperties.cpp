@@ -24,14 +24,9 @@ namespace {
 // rounding near 1e-7), in double across blocks.
 constexpr std::size_t kBlock = 256;
 constexpr std::size_t kLanes = 8;
-
-// Covariance of a texel's surface patch about its position, from the texel edges; a partly
-// covered texel is scaled by its covered fraction (exact for whole flat texels only).
-Eigen::Matrix3d texelCovariance(const Eigen::Vector3d& edgeU, const Eigen::Vector3d& edgeV, double area) {
-  const double spanned = edgeU.cross(edgeV).norm();
-  const double fraction = spanned > 0.0 ? std::min(1.0, area / spanned) : 0.0;
-  return fraction / 12.0 * (edgeU * edgeU.transpose() + edgeV * edgeV.transpose());
-}
+// Texels per SIMD chunk in TextureMassIntegrator::update (divides kBlock).
+constexpr std::size_t kChunk = 8;
+using Chunk = Eigen::Array<float, int(kChunk), 1>;
 
 // Float lanes of one block's sums: independent accumulators the compiler turns into SIMD
 // registers without reassociating anything.
@@ -85,40 +80,98 @@ struct TextureMassIntegrator::Moments {
 };
 
 TextureMassIntegrator::TextureMassIntegrator(const SurfaceTextures& textures, const Eigen::Vector3d& referencePoint)
-    : referencePoint_(referencePoint), count_(textures.size()) {
+    : referencePoint_(referencePoint) {
+  update(textures);
+}
+
+void TextureMassIntegrator::update(const SurfaceTextures& textures) {
+  count_ = textures.size();
   const std::size_t blocks = (count_ + kBlock - 1) / kBlock;
   const std::size_t padded = blocks * kBlock;
-  dx_.assign(padded, 0.0f);
-  dy_.assign(padded, 0.0f);
-  dz_.assign(padded, 0.0f);
-  volume_.assign(padded, 0.0f);
-  blockCovariance_.assign(blocks * 6, 0.0);
-  blockAbsVolume_.assign(blocks, 0.0);
-  for (std::size_t i = 0; i < count_; ++i) {
-    const Eigen::Vector3d d = textures.position[i].cast<double>() - referencePoint;
-    const Eigen::Vector3d areaVector = textures.areaVector[i].cast<double>();
-    const double v = d.dot(areaVector) / 3.0;
-    const double area = textures.area[i];
-    dx_[i] = static_cast<float>(d.x());
-    dy_[i] = static_cast<float>(d.y());
-    dz_[i] = static_cast<float>(d.z());
-    volume_[i] = static_cast<float>(v);
-    totalVolume_ += v;
-    const Eigen::Matrix3d covariance =
-        texelCovariance(textures.edgeU[i].cast<double>(), textures.edgeV[i].cast<double>(), area);
-    const std::size_t b = i / kBlock;
-    const Eigen::Matrix3d cone = 0.6 * v * covariance;
-    blockCovariance_[6 * b + 0] += cone(0, 0);
-    blockCovariance_[6 * b + 1] += cone(1, 1);
-    blockCovariance_[6 * b + 2] += cone(2, 2);
-    blockCovariance_[6 * b + 3] += cone(0, 1);
-    blockCovariance_[6 * b + 4] += cone(0, 2);
-    blockCovariance_[6 * b + 5] += cone(1, 2);
-    blockAbsVolume_[b] += std::abs(v);
-    shellArea_ += area;
-    shellFirst_ += area * d;
-    shellSecond_ += area * (d * d.transpose() + covariance);
+  // resize keeps the capacity: no allocation when the texel count is unchanged. The padding
+  // beyond count_ is zeroed once and never written.
+  dx_.resize(padded, 0.0f);
+  dy_.resize(padded, 0.0f);
+  dz_.resize(padded, 0.0f);
+  volume_.resize(padded, 0.0f);
+  blockCovariance_.resize(blocks * 6);
+  blockAbsVolume_.resize(blocks);
+  const float cx = static_cast<float>(referencePoint_.x());
+  const float cy = static_cast<float>(referencePoint_.y());
+  const float cz = static_cast<float>(referencePoint_.z());
+  // The textures as 3 x n float matrices (Vector3f is three packed floats).
+  using Rows = Eigen::Map<const Eigen::Array<float, 3, Eigen::Dynamic>>;
+  const Rows position(textures.position.empty() ? nullptr : textures.position.front().data(), 3, Eigen::Index(count_));
+  const Rows areaVector(textures.areaVector.empty() ? nullptr : textures.areaVector.front().data(), 3, Eigen::Index(count_));
+  const Rows edgeU(textures.edgeU.empty() ? nullptr : textures.edgeU.front().data(), 3, Eigen::Index(count_));
+  const Rows edgeV(textures.edgeV.empty() ? nullptr : textures.edgeV.front().data(), 3, Eigen::Index(count_));
+  double volumeSum = 0.0, shellArea = 0.0;
+  double shell[9] = {};  // first x y z, second xx yy zz xy xz yz
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t begin = b * kBlock, end = std::min(count_, begin + kBlock);
+    // A block in chunks of kChunk texels held in fixed-size Eigen arrays (SIMD, no branch); the
+    // sums stay in float lanes over the block (kBlock / kChunk terms each, as in evaluate) and
+    // are added in double across blocks.
+    Chunk cone[6], absVolume = Chunk::Zero(), area = Chunk::Zero(), shellBlock[9];
+    for (Chunk& c : cone) c.setZero();
+    for (Chunk& c : shellBlock) c.setZero();
+    double blockVolume = 0.0;  // the enclosed volume is exact up to rounding: kept in double
+    for (std::size_t chunk = begin; chunk < end; chunk += kChunk) {
+      const Eigen::Index first = Eigen::Index(chunk), n = Eigen::Index(std::min(kChunk, end - chunk));
+      // A whole chunk loads fixed-size (no loop set-up); the last one is padded with zeros, which
+      // add nothing.
+      auto load = [&](const Rows& rows, Eigen::Index row, float shift) {
+        if (n == Eigen::Index(kChunk)) return Chunk(rows.row(row).segment<int(kChunk)>(first).transpose() - shift);
+        Chunk out = Chunk::Zero();
+        for (Eigen::Index j = 0; j < n; ++j) out[j] = rows(row, first + j) - shift;
+        return out;
+      };
+      const Chunk x = load(position, 0, cx), y = load(position, 1, cy), z = load(position, 2, cz);
+      const Chunk ax = load(areaVector, 0, 0.0f), ay = load(areaVector, 1, 0.0f), az = load(areaVector, 2, 0.0f);
+      const Chunk ux = load(edgeU, 0, 0.0f), uy = load(edgeU, 1, 0.0f), uz = load(edgeU, 2, 0.0f);
+      const Chunk vx = load(edgeV, 0, 0.0f), vy = load(edgeV, 1, 0.0f), vz = load(edgeV, 2, 0.0f);
+      Chunk a = Chunk::Zero();
+      for (Eigen::Index j = 0; j < n; ++j) a[j] = textures.area[chunk + std::size_t(j)];
+      // (x, y, z) of padding texels is -c: harmless, their area vector and area are zero.
+      const Chunk v = (x * ax + y * ay + z * az) * (1.0f / 3.0f);
+      // The arrays are padded to whole blocks, so a whole chunk always fits.
+      Eigen::Map<Chunk>(dx_.data() + chunk) = x;
+      Eigen::Map<Chunk>(dy_.data() + chunk) = y;
+      Eigen::Map<Chunk>(dz_.data() + chunk) = z;
+      Eigen::Map<Chunk>(volume_.data() + chunk) = v;
+      blockVolume += v.cast<double>().sum();
+      // Covariance of the texel's patch about its position, (eu eu^T + ev ev^T) / 12 for a whole
+      // flat parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered
+      // texel (at most 1).
+      const Chunk crossX = uy * vz - uz * vy, crossY = uz * vx - ux * vz, crossZ = ux * vy - uy * vx;
+      const Chunk spanned = (crossX * crossX + crossY * crossY + crossZ * crossZ).sqrt();
+      const Chunk k = (spanned > 0.0f).select((a / spanned).min(1.0f), 0.0f) * (1.0f / 12.0f);
+      const Chunk c[6] = {k * (ux * ux + vx * vx), k * (uy * uy + vy * vy), k * (uz * uz + vz * vz),
+                          k * (ux * uy + vx * vy), k * (ux * uz + vx * vz), k * (uy * uz + vy * vz)};
+      const Chunk w = 0.6f * v;
+      for (int m = 0; m < 6; ++m) cone[m] += w * c[m];
+      absVolume += v.abs();
+      area += a;
+      shellBlock[0] += a * x;
+      shellBlock[1] += a * y;
+      shellBlock[2] += a * z;
+      shellBlock[3] += a * (x * x + c[0]);
+      shellBlock[4] += a * (y * y + c[1]);
+      shellBlock[5] += a * (z * z + c[2]);
+      shellBlock[6] += a * (x * y + c[3]);
+      shellBlock[7] += a * (x * z + c[4]);
+      shellBlock[8] += a * (y * z + c[5]);
+    }
+    for (std::size_t m = 0; m < 6; ++m) blockCovariance_[6 * b + m] = cone[m].cast<double>().sum();
+    blockAbsVolume_[b] = absVolume.cast<double>().sum();
+    volumeSum += blockVolume;
+    shellArea += area.cast<double>().sum();
+    for (std::size_t m = 0; m < 9; ++m) shell[m] += shellBlock[m].cast<double>().sum();
   }
+  totalVolume_ = volumeSum;
+  shellArea_ = shellArea;
+  shellFirst_ = Eigen::Vector3d(shell[0], shell[1], shell[2]);
+  shellSecond_ << shell[3], shell[6], shell[7], shell[6], shell[4], shell[8], shell[7], shell[8], shell[5];
 }
 
 Expected<MassProperties> TextureMassIntegrator::evaluate(const TextureMassModel& model) const {

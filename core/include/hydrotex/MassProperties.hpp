@@ -51,6 +51,11 @@ class TextureMassIntegrator {
   /// Prepares the per-texel arrays for `textures` with cone apex `referencePoint` (m).
   TextureMassIntegrator(const SurfaceTextures& textures, const Eigen::Vector3d& referencePoint);
 
+  /// Prepares again, in place, for moved `textures` (a deforming body), keeping the reference
+  /// point: allocates nothing when the texel count is unchanged, and costs one pass over the
+  /// texels in float (the cone terms of a texel are single precision; the sums are double).
+  void update(const SurfaceTextures& textures);
+
   /// Mass properties for `model` (its referencePoint is ignored: the prepared one is used).
   /// Error when model.texelDensity is neither empty nor one value per covered texel, or a
   /// density is negative or not finite.

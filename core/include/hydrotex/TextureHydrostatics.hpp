@@ -50,6 +50,13 @@ class TextureHydrostatics {
   Expected<HydrostaticsResult> query(const LiquidSurface& surface, const HydrostaticsQuery& query,
                                      TexelTraversal traversal = TexelTraversal::Hierarchy) const;
 
+  /// Refreshes, in place, the packed texels and the moments and bounds of every tile, group and
+  /// the body from moved `textures` of the same bake (a deforming body): no re-packing and no
+  /// allocation; one pass over the texels. Error when the texel count or resolution differs from
+  /// the build's, or a value is not finite; after an error every query answers that error until
+  /// an update succeeds.
+  Status update(const SurfaceTextures& textures);
+
   /// Enclosed volume of the body from its texels (m^3): (1/3) sum p . A.
   double enclosedVolume() const { return enclosedVolume_; }
   /// Number of tiles.
@@ -91,7 +98,11 @@ class TextureHydrostatics {
   };
 
  private:
+  void refresh();  // moments and bounds of tiles, groups and body from texels_
   std::vector<Texel> texels_;
+  std::vector<std::uint32_t> source_;  // per packed texel: its index in the SurfaceTextures
+  int width_ = 0, height_ = 0;         // resolution of the build's textures
+  bool valid_ = true;                  // false after a failed update
   std::vector<Tile> tiles_;
   std::vector<Tile> groups_;
   Moments total_;

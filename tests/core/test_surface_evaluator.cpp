@@ -1,0 +1,207 @@
+// The per-step path of a deforming body (issue 5): SurfaceEvaluator against the double reference
+// evaluateSurface, TextureMassIntegrator::update and TextureHydrostatics::update against fresh
+// preparation from the same textures, buffers reused, and bad input.
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/Primitives.hpp"
+#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/SurfaceEvaluator.hpp"
+#include "hydrotex/TextureHydrostatics.hpp"
+
+using namespace hydrotex;
+namespace prim = hydrotex::primitives;
+
+namespace {
+
+SurfaceBake bakeAt(const Mesh& mesh, int resolution) {
+  BakeSettings settings;
+  settings.width = settings.height = resolution;
+  auto bake = bakeSurface(mesh, mesh.uv, settings);
+  REQUIRE(bake.ok());
+  return std::move(bake).value();
+}
+
+// A smooth non-uniform deformation (shear, stretch, a bulge) that keeps the surface closed.
+Mesh deformed(const Mesh& rest, double amount) {
+  Mesh moved = rest;
+  for (auto& p : moved.positions) {
+    const double bulge = 1.0 + 0.2 * amount * std::sin(2.0 * p.y());
+    p = Eigen::Vector3d(bulge * p.x() + 0.3 * amount * p.y(), (1.0 + 0.5 * amount) * p.y(),
+                        bulge * p.z() - 0.2 * amount * p.x());
+  }
+  return moved;
+}
+
+double meshSize(const Mesh& mesh) {
+  double size = 0.0;
+  for (const auto& p : mesh.positions) size = std::max(size, p.norm());
+  return size;
+}
+
+}  // namespace
+
+TEST_CASE("SurfaceEvaluator matches evaluateSurface on moved vertices") {
+  const std::vector<std::pair<std::string, Mesh>> meshes = {{"box", prim::box({1.0, 2.0, 3.0})},
+                                                            {"uv sphere", prim::uvSphere(1.0, 32, 16)},
+                                                            {"torus", prim::torus(1.0, 0.3, 32, 12)}};
+  for (const auto& [name, rest] : meshes) {
+    const SurfaceBake bake = bakeAt(rest, 128);
+    SurfaceEvaluator evaluator(bake, rest.uv);
+    REQUIRE(evaluator.texelCount() == bake.coveredCount());
+    SurfaceTextures fast;
+    for (double amount : {0.0, 0.7}) {
+      const Mesh moved = deformed(rest, amount);
+      evaluator.evaluate(moved, fast);
+      const SurfaceTextures reference = evaluateSurface(bake, moved, rest.uv);
+      REQUIRE(fast.size() == reference.size());
+      CHECK(fast.width == reference.width);
+      CHECK(fast.height == reference.height);
+      // Float sums of a few pieces against double ones rounded to float: positions to a few float
+      // ulps of the body's size (the shift along A divides by |A|, which can cost a factor 10:
+      // 1e-5 of the size); areas and edges to 1e-5 of the texel's own.
+      const double size = meshSize(moved);
+      double worstPosition = 0.0, worstArea = 0.0, worstEdge = 0.0;
+      double volume = 0.0;
+      for (std::size_t i = 0; i < fast.size(); ++i) {
+        worstPosition = std::max(worstPosition, double((fast.position[i] - reference.position[i]).norm()) / size);
+        const double area = std::max(1e-30, double(reference.area[i]));
+        worstArea = std::max(worstArea, double((fast.areaVector[i] - reference.areaVector[i]).norm()) / area);
+        worstArea = std::max(worstArea, std::abs(double(fast.area[i] - reference.area[i])) / area);
+        const double edge = std::max(1e-30, double(reference.edgeU[i].norm() + reference.edgeV[i].norm()));
+        worstEdge = std::max(worstEdge, double((fast.edgeU[i] - reference.edgeU[i]).norm() +
+                                               (fast.edgeV[i] - reference.edgeV[i]).norm()) / edge);
+        volume += fast.position[i].cast<double>().dot(fast.areaVector[i].cast<double>()) / 3.0;
+      }
+      INFO(name << " deformation " << amount);
+      CHECK(worstPosition < 1e-5);
+      CHECK(worstArea < 1e-5);
+      CHECK(worstEdge < 1e-5);
+      // The enclosed volume stays exact (the polyhedral volume of the moved mesh) to float rounding.
+      const auto exact = polyhedralMassProperties(moved, 1.0);
+      REQUIRE(exact.ok());
+      CHECK(volume == Approx(exact->volume).epsilon(1e-6));
+    }
+  }
+}
+
+TEST_CASE("SurfaceEvaluator reuses the output buffers and survives a mismatched mesh") {
+  const Mesh rest = prim::uvSphere(1.0, 24, 12);
+  const SurfaceBake bake = bakeAt(rest, 64);
+  SurfaceEvaluator evaluator(bake, rest.uv);
+  SurfaceTextures out;
+  evaluator.evaluate(rest, out);
+  const void* position = out.position.data();
+  const void* areaData = out.area.data();
+  evaluator.evaluate(deformed(rest, 0.5), out);
+  CHECK(out.position.data() == position);  // no reallocation on the per-step path
+  CHECK(out.area.data() == areaData);
+
+  // A mesh with fewer triangles than the bake: pieces naming missing triangles carry nothing.
+  Mesh half = rest;
+  half.triangles.resize(rest.triangles.size() / 2);
+  evaluator.evaluate(half, out);
+  double area = 0.0, expected = 0.0;
+  for (float a : out.area) area += a;
+  for (const auto& t : half.triangles)
+    expected += 0.5 * (half.positions[t[1]] - half.positions[t[0]]).cross(half.positions[t[2]] - half.positions[t[0]]).norm();
+  CHECK(area == Approx(expected).epsilon(1e-5));  // float sums over ~3k texels
+  // An empty evaluator gives empty textures.
+  SurfaceEvaluator nothing;
+  nothing.evaluate(rest, out);
+  CHECK(out.size() == 0);
+}
+
+TEST_CASE("TextureMassIntegrator::update equals a fresh preparation") {
+  const Mesh rest = prim::torus(1.0, 0.3, 32, 12);
+  const SurfaceBake bake = bakeAt(rest, 128);
+  SurfaceEvaluator evaluator(bake, rest.uv);
+  SurfaceTextures textures;
+  evaluator.evaluate(rest, textures);
+  const Eigen::Vector3d reference(0.1, -0.2, 0.05);
+  TextureMassIntegrator updated(textures, reference);
+  TextureMassModel model;
+  model.solidDensity = 700.0;
+  model.shellDensity = 3.0;
+  for (double amount : {0.4, 0.9}) {
+    const Mesh moved = deformed(rest, amount);
+    evaluator.evaluate(moved, textures);
+    updated.update(textures);
+    const TextureMassIntegrator fresh(textures, reference);
+    const auto a = updated.evaluate(model);
+    const auto b = fresh.evaluate(model);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    // Same inputs, same sums: equal to double rounding of float terms (1e-9 relative).
+    CHECK(a->mass == Approx(b->mass).epsilon(1e-9));
+    CHECK(a->volume == Approx(b->volume).epsilon(1e-9));
+    CHECK((a->centerOfMass - b->centerOfMass).norm() < 1e-9);
+    CHECK((a->inertia - b->inertia).norm() < 1e-9 * b->inertia.norm());
+    // And the mass follows the moved mesh: solid of the exact volume plus the shell's area.
+    const auto exact = polyhedralMassProperties(moved, 1.0);
+    REQUIRE(exact.ok());
+    double area = 0.0;
+    for (float texelArea : textures.area) area += texelArea;
+    CHECK(a->mass == Approx(700.0 * exact->volume + 3.0 * area).epsilon(1e-6));  // float volume terms
+  }
+}
+
+TEST_CASE("TextureHydrostatics::update equals a rebuild from the same textures") {
+  const Mesh rest = prim::uvSphere(1.0, 32, 16);
+  const SurfaceBake bake = bakeAt(rest, 128);
+  SurfaceEvaluator evaluator(bake, rest.uv);
+  SurfaceTextures textures;
+  evaluator.evaluate(rest, textures);
+  auto built = TextureHydrostatics::build(bake, textures);
+  REQUIRE(built.ok());
+  TextureHydrostatics updated = std::move(built).value();
+  const FlatSurface water(0.0);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (double amount : {0.3, 0.8}) {
+    const Mesh moved = deformed(rest, amount);
+    evaluator.evaluate(moved, textures);
+    REQUIRE(updated.update(textures).ok());
+    auto fresh = TextureHydrostatics::build(bake, textures);
+    REQUIRE(fresh.ok());
+    CHECK(updated.enclosedVolume() == Approx(fresh->enclosedVolume()).epsilon(1e-12));
+    CHECK(updated.tileCount() == fresh->tileCount());
+    for (int i = 0; i < 8; ++i) {
+      HydrostaticsQuery query;
+      query.pose.rotation = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
+      query.pose.translation = Eigen::Vector3d(0.0, 0.6 * n(rng), 0.0);
+      for (TexelTraversal traversal : {TexelTraversal::Hierarchy, TexelTraversal::BruteForce}) {
+        const auto a = updated.query(water, query, traversal);
+        const auto b = fresh->query(water, query, traversal);
+        REQUIRE(a.ok());
+        REQUIRE(b.ok());
+        // The same texels and tiles: equal up to double rounding (a tile may fall on the texel
+        // path instead of its moments because of the bounds' float slack: 1e-9 of the weight).
+        const double scale = 1000.0 * 9.81 * updated.enclosedVolume();
+        CHECK((a->buoyancyForce - b->buoyancyForce).norm() < 1e-9 * scale);
+        CHECK(a->submergedVolume == Approx(b->submergedVolume).margin(1e-12));
+      }
+    }
+  }
+
+  // Bad input: a mismatched size or a NaN is an error, and queries say so until a good update.
+  SurfaceTextures wrong = textures;
+  wrong.position.pop_back();
+  CHECK_FALSE(updated.update(wrong).ok());
+  HydrostaticsQuery query;
+  CHECK_FALSE(updated.query(water, query).ok());
+  SurfaceTextures nan = textures;
+  nan.position[nan.size() / 2].x() = std::numeric_limits<float>::quiet_NaN();
+  CHECK_FALSE(updated.update(nan).ok());
+  CHECK_FALSE(updated.query(water, query).ok());
+  REQUIRE(updated.update(textures).ok());
+  CHECK(updated.query(water, query).ok());
+}
