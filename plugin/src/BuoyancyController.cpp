@@ -250,6 +250,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       state->bake = std::move(geometry->bake);
       state->layout = std::move(geometry->atlas.layout);
       state->textures = std::move(geometry->textures);
+      state->evaluator = SurfaceEvaluator(state->bake, state->layout);
       floating->deformation = std::move(state);
     }
   }
@@ -747,15 +748,9 @@ void BuoyancyController::deform(FloatingBody& floating) {
   }
   ++statistics_.deformations;
   // PT/VAT from the moved vertices through the kept texel pieces (DESIGN.md "Exact texels").
-  state.textures = evaluateSurface(state.bake, *state.current, state.layout);
-  if (floating.texture) {
-    Expected<TextureHydrostatics> rebuilt = TextureHydrostatics::build(state.bake, state.textures);
-    if (rebuilt) {
-      *floating.texture = std::move(rebuilt).value();
-    } else {
-      ++statistics_.failedQueries;
-    }
-  }
+  // In place, allocation-free: the evaluator, the hydrostatics and the mass model reuse their buffers.
+  state.evaluator.evaluate(*state.current, state.textures);
+  if (floating.texture && !floating.texture->update(state.textures)) ++statistics_.failedQueries;
   if (floating.massModel && !floating.massModel->setGeometry(state.textures)) ++statistics_.failedQueries;
   if (settings.effects.has(Effect::Drag)) {
     floating.dragPatches = mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,

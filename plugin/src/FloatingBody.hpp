@@ -12,6 +12,7 @@
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
 #include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/SurfaceEvaluator.hpp"
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
 #include "hydrotex/Wetting.hpp"
@@ -26,6 +27,7 @@ struct DeformationState {
   SurfaceBake bake;                     ///< exact texel pieces, kept from registration (no re-rasterizing)
   UvLayout layout;                      ///< the physics atlas the bake was made with
   SurfaceTextures textures;             ///< PT/VAT of the current vertices
+  SurfaceEvaluator evaluator;           ///< the bake arranged for the per-step re-evaluation
   std::vector<Eigen::Vector3d> positions;  ///< scratch for the deformation function
 };
 
