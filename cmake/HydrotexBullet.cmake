@@ -12,9 +12,10 @@ if(NOT TARGET hydrotex::BulletDependency)
   if(NOT IS_ABSOLUTE "${_hydrotex_bullet_libdir}")
     set(_hydrotex_bullet_libdir "${BULLET_ROOT_DIR}/${_hydrotex_bullet_libdir}")
   endif()
-  # Only the three libraries a rigid-body world needs, in link order (dependents first).
+  # The three libraries a rigid-body world needs, and BulletSoftBody for soft bodies
+  # (SoftBodyBuoyancy; btSoftRigidDynamicsWorld), in link order (dependents first).
   set(_hydrotex_bullet_libraries "")
-  foreach(_component BulletDynamics BulletCollision LinearMath)
+  foreach(_component BulletSoftBody BulletDynamics BulletCollision LinearMath)
     find_library(HYDROTEX_BULLET_${_component}_LIBRARY NAMES ${_component}
                  HINTS "${_hydrotex_bullet_libdir}" REQUIRED)
     list(APPEND _hydrotex_bullet_libraries "${HYDROTEX_BULLET_${_component}_LIBRARY}")

@@ -410,6 +410,30 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   time_ += dt;
   ++statistics_.steps;
   for (const auto& floating : bodies_) stepBody(*floating, dt);
+  for (SoftBodyBuoyancy& soft : softBodies_)
+    if (!soft.apply(*liquid_.surface, time_)) ++statistics_.failedQueries;
+}
+
+Status BuoyancyController::addSoftBody(btSoftBody* body, const SoftBodySettings& settings) {
+  for (const SoftBodyBuoyancy& soft : softBodies_)
+    if (soft.body() == body) return Error{"soft body is already registered"};
+  Expected<SoftBodyBuoyancy> soft = SoftBodyBuoyancy::create(body, settings);
+  if (!soft) return soft.error();
+  softBodies_.push_back(std::move(soft).value());
+  return Ok{};
+}
+
+bool BuoyancyController::removeSoftBody(btSoftBody* body) {
+  auto it = std::find_if(softBodies_.begin(), softBodies_.end(), [&](const SoftBodyBuoyancy& s) { return s.body() == body; });
+  if (it == softBodies_.end()) return false;
+  softBodies_.erase(it);
+  return true;
+}
+
+const SoftBodyReport* BuoyancyController::softBodyReport(const btSoftBody* body) const {
+  for (const SoftBodyBuoyancy& soft : softBodies_)
+    if (soft.body() == body) return &soft.report();
+  return nullptr;
 }
 
 void BuoyancyController::stepBody(FloatingBody& floating, double dt) {

@@ -18,6 +18,7 @@
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
+#include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
 
 namespace hydrotex::bullet {
 
@@ -110,6 +111,16 @@ class BuoyancyController : public btActionInterface {
   /// the mesh origin); mass and inertia stay as the controller set them. False when unknown.
   bool removeBody(btRigidBody* body);
 
+  /// Registers a soft body (in a btSoftRigidDynamicsWorld): every step its nodes get the texel
+  /// pressure forces of the liquid (SoftBodyBuoyancy); its shape and mass stay Bullet's (kPR,
+  /// kVC, kMT, setTotalMass). No drag, added mass or other effect. Errors: those of
+  /// SoftBodyBuoyancy::create, or `body` already registered.
+  Status addSoftBody(btSoftBody* body, const SoftBodySettings& settings = {});
+  /// Unregisters a soft body. False when unknown.
+  bool removeSoftBody(btSoftBody* body);
+  /// Last step's forces on a registered soft body, or null.
+  const SoftBodyReport* softBodyReport(const btSoftBody* body) const;
+
   /// Changes mass, centre of mass and inertia (mesh frame) of a registered body, keeping the shape
   /// where it is in the world and keeping linear and angular momentum (DESIGN.md "Bullet's
   /// frame"). Errors: unknown body, non-positive or non-finite mass, non-finite centre, an
@@ -166,6 +177,7 @@ class BuoyancyController : public btActionInterface {
   LiquidSettings liquid_;
   ControllerSettings settings_;
   std::vector<std::unique_ptr<FloatingBody>> bodies_;
+  std::vector<SoftBodyBuoyancy> softBodies_;
   ControllerStatistics statistics_;
   double time_ = 0.0;
 };
