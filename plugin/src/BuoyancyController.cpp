@@ -411,7 +411,7 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   ++statistics_.steps;
   for (const auto& floating : bodies_) stepBody(*floating, dt);
   for (SoftBodyBuoyancy& soft : softBodies_)
-    if (!soft.apply(*liquid_.surface, time_)) ++statistics_.failedQueries;
+    if (!soft.apply(*liquid_.surface, time_, dt)) ++statistics_.failedQueries;
 }
 
 Status BuoyancyController::addSoftBody(btSoftBody* body, const SoftBodySettings& settings) {

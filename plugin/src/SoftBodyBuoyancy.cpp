@@ -81,7 +81,8 @@ Expected<SoftBodyBuoyancy> SoftBodyBuoyancy::create(btSoftBody* body, const Soft
   return out;
 }
 
-Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time) {
+Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time, double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) return Error{"soft body: time step " + std::to_string(dt) + " s is not positive"};
   const std::size_t nodeCount = mesh_.positions.size();
   if (std::size_t(body_->m_nodes.size()) != nodeCount || std::size_t(body_->m_faces.size()) != faceCount_)
     return Error{"soft body: nodes or faces changed in number since registration"};
@@ -133,12 +134,18 @@ Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time) {
       }
     }
   }
+  // What btSoftBody::predictMotion does with a node force (semi-implicit Euler), done here
+  // because Bullet clears m_f before its next predictMotion (see the header).
+  const btScalar step = btScalar(dt);
   for (std::size_t n = 0; n < nodeCount; ++n) {
     const btVector3& f = nodeForce_[n];
-    if (f.isZero()) continue;
-    body_->addForce(f, int(n));
+    btSoftBody::Node& node = body_->m_nodes[int(n)];
+    if (f.isZero() || node.m_im <= 0) continue;
+    const btVector3 deltaV = f * (node.m_im * step);
+    node.m_v += deltaV;
+    node.m_x += deltaV * step;
     report.buoyancyForce += f;
-    report.buoyancyTorque += body_->m_nodes[int(n)].m_x.cross(f);
+    report.buoyancyTorque += node.m_x.cross(f);
   }
   if (!report.buoyancyForce.isZero()) body_->activate();
   report_ = report;

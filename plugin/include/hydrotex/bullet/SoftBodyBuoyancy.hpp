@@ -9,9 +9,12 @@
 /// texels). The soft body keeps its own shape through Bullet (pressure kPR, volume conservation
 /// kVC, pose matching kMT).
 ///
-/// Use it through BuoyancyController::addSoftBody, or on its own: call apply() once per
-/// sub-step (an internal tick callback or an action); Bullet adds the forces to the nodes'
-/// velocities in its next btSoftBody::predictMotion.
+/// Use it through BuoyancyController::addSoftBody, or on its own: call apply() once per sub-step
+/// from an action (btActionInterface), i.e. after Bullet's btSoftBody::predictMotion and before
+/// its solveConstraints. Bullet clears node forces (m_f) in solveConstraints, so a force added
+/// there would never act; apply() therefore integrates its forces itself, exactly as
+/// predictMotion integrates m_f (semi-implicit Euler: v += f / m dt, x += f / m dt^2), and the
+/// position solve then derives the velocities from the moved nodes as usual.
 
 #include <cstdint>
 #include <vector>
@@ -51,13 +54,14 @@ class SoftBodyBuoyancy {
   /// has no faces, is not closed, or the settings are out of range.
   static Expected<SoftBodyBuoyancy> create(btSoftBody* body, const SoftBodySettings& settings = {});
 
-  /// Adds to the soft body's nodes the pressure forces of `surface` at `time` (s): per texel,
-  /// for a free surface p = rho g (mean depth of the wet part of the texel, depth from the local
-  /// surface height above the texel's centre; the depth taken uniform over the texel's vertical
-  /// span), otherwise the medium's pressure at the texel. g is the length of the soft body's
-  /// world gravity (m/s^2, along -y as everywhere in hydrotex). Error (nothing applied) when the
-  /// soft body's nodes or faces changed in number, or a node is not finite.
-  Status apply(const LiquidSurface& surface, double time);
+  /// Gives the soft body's nodes the pressure forces of `surface` at `time` (s) for one sub-step
+  /// of `dt` seconds (see the file comment): per texel, for a free surface p = rho g (mean depth
+  /// of the wet part of the texel, depth from the local surface height above the texel's centre,
+  /// taken uniform over the texel's vertical span), otherwise the medium's pressure at the
+  /// texel. g is the length of the soft body's world gravity (m/s^2, along -y as everywhere in
+  /// hydrotex). Nodes of zero inverse mass (pinned) take nothing. Error (nothing applied) when dt
+  /// is not positive, the soft body's nodes or faces changed in number, or a node is not finite.
+  Status apply(const LiquidSurface& surface, double time, double dt);
 
   /// The soft body.
   btSoftBody* body() const { return body_; }
