@@ -26,7 +26,8 @@ struct ImageMap {
 /// [0,1]: 16-bit images keep 16-bit precision (value / 65535). Colour becomes luminance with the
 /// Rec. 709 weights 0.2126 R + 0.7152 G + 0.0722 B applied to the stored (gamma-encoded) values,
 /// so that a gray pixel keeps its value exactly; alpha is ignored. Errors (one line starting with
-/// `path`): missing, empty, corrupt or not an image, zero size, unsupported channel count.
+/// `path`): missing, empty, corrupt or not an image (a PNG chunk with a wrong CRC included), zero
+/// size, more than 2^28 pixels, unsupported channel count.
 Expected<ImageMap> loadImageMap(const std::string& path);
 
 /// Bilinear sample at texture coordinates (u, v) (see the row convention above), pixel values at
