@@ -36,7 +36,7 @@ Expected<DemoDescription> loadDemoDescription(const std::string& path) {
   if (demo.name.rfind("demo_", 0) == 0) demo.name = demo.name.substr(5);
   demo.baseDirectory = filePath.parent_path().string();
   auto resolve = [&](const std::string& relative) { return (filePath.parent_path() / relative).lexically_normal().string(); };
-  static const char* known[] = {"title", "figure", "requires", "waiting_for", "scene", "fps", "size", "camera", "overlays", "bodies", "contact_sheet", "sink_fraction"};
+  static const char* known[] = {"title", "figure", "requires", "waiting_for", "scene", "fps", "size", "camera", "overlays", "bodies", "contact_sheet", "sink_fraction", "scenery"};
   for (auto it = json.begin(); it != json.end(); ++it)
     if (std::find(std::begin(known), std::end(known), it.key()) == std::end(known)) return Error{path + ": " + it.key() + ": unknown key"};
   try {
@@ -86,6 +86,9 @@ Expected<DemoDescription> loadDemoDescription(const std::string& path) {
         else if (palette == "wetness") look.palette = Palette::Wetness;
         else return Error{path + ": bodies." + it.key() + ".palette: '" + palette + "' is not one of heat, viridis, wetness"};
         look.overlayOpacity = it->value("overlay_opacity", 0.7);
+        look.wetnessViewOpacity = it->value("wetness_view", 0.0);
+        if (!(look.wetnessViewOpacity >= 0.0 && look.wetnessViewOpacity <= 1.0))
+          return Error{path + ": bodies." + it.key() + ".wetness_view: must lie in 0..1"};
         demo.looks[it.key()] = look;
       }
     if (json.contains("contact_sheet")) {
@@ -93,6 +96,22 @@ Expected<DemoDescription> loadDemoDescription(const std::string& path) {
       demo.sheetColumns = json.at("contact_sheet").value("columns", 3);
     }
     demo.sinkFraction = json.value("sink_fraction", 0.98);
+    if (json.contains("scenery")) {
+      if (!json.at("scenery").is_array()) return Error{path + ": scenery: expected an array of bodies"};
+      for (std::size_t i = 0; i < json.at("scenery").size(); ++i) {
+        Json body = json.at("scenery").at(i);
+        const std::string where = path + ": scenery[" + std::to_string(i) + "]";
+        if (!body.is_object()) return Error{where + ": expected a body object"};
+        SceneryItem item;
+        item.initialSaturation = body.value("initial_saturation", 0.0);
+        if (!(item.initialSaturation >= 0.0 && item.initialSaturation <= 1.0)) return Error{where + ".initial_saturation: must lie in 0..1"};
+        item.pigment = body.value("pigment", false);
+        body.erase("initial_saturation");
+        body.erase("pigment");
+        item.bodyText = body.dump();
+        demo.scenery.push_back(std::move(item));
+      }
+    }
   } catch (const Json::exception& e) {
     return Error{path + ": " + e.what()};
   }

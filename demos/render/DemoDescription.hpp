@@ -21,6 +21,14 @@ struct BodyLook {
   std::string overlayPath;      ///< gray PNG shown in pseudo-colour (permeability, density), empty: none
   Palette palette = Palette::Heat; ///< colour map of the overlay
   double overlayOpacity = 0.7;  ///< 0..1
+  double wetnessViewOpacity = 0.0; ///< 0..1: the liquid texture's saturation in pseudo-colour over the wet-shaded albedo (figure 18)
+};
+
+/// A static body that gets wet (WetScenery): a body in the scene-file format plus its start.
+struct SceneryItem {
+  std::string bodyText;            ///< the body object (scene-file keys), as JSON text for parseScene
+  double initialSaturation = 0.0;  ///< 0..1, every texel at the start (`initial_saturation`)
+  bool pigment = false;            ///< keep a pigment channel (`pigment`: coloured liquid, figure 17)
 };
 
 /// Everything in a demo file.
@@ -45,6 +53,7 @@ struct DemoDescription {
   int sheetFrames = 6;                   ///< frames on the contact sheet
   int sheetColumns = 3;                  ///< columns of the contact sheet
   double sinkFraction = 0.98;            ///< a body has sunk when this fraction of its volume is submerged
+  std::vector<SceneryItem> scenery;      ///< static wet bodies (`scenery`), drawn with looks by name
 };
 
 /// Reads a demo file. Errors name the file and the key at fault.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
@@ -14,6 +15,9 @@
 #include "DebugLineCollector.hpp"
 #include "ImageFiles.hpp"
 #include "VideoEncoder.hpp"
+#include "WetScenery.hpp"
+#include "WetnessImage.hpp"
+#include "hydrotex/BodyGeometry.hpp"
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
@@ -40,6 +44,16 @@ struct BodyFigures {
   double submergedFraction = 0.0;       // at the end
   double listDegrees = 0.0, trimDegrees = 0.0, tiltDegrees = 0.0;  // at the end
   double mass = 0.0;                    // kg, at the end
+  bool flooding = false, wetting = false;  // effects listed
+  double liquidHeld = 0.0;              // m^3 in the liquid graph (flooding), at the end
+  double surfaceHeld = 0.0, absorbed = 0.0, evaporated = 0.0;  // m^3 in the liquid texture (wetting)
+};
+
+/// A body whose liquid texture is drawn: where its texels sit in the physics atlas.
+struct WetBody {
+  std::size_t sceneIndex = 0;
+  int rendererId = 0;
+  WetnessImage image;
 };
 
 void printProgress(int done, int total, double simulated, double elapsed) {
@@ -156,37 +170,65 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   std::vector<int> rendererIds;
   std::vector<BodyFigures> figures;
   std::vector<double> overlayOpacity;
-  for (const bullet::SceneBody& body : scene->bodies) {
-    Mesh mesh;
+  std::vector<WetBody> wetBodies;
+  std::vector<double> wetnessView;
+  // A body's mesh and look (albedo, overlay); false after printing what is wrong.
+  auto loadBody = [&](const bullet::SceneBody& body, Mesh& mesh, BodyLook& look, std::optional<RgbImage>& albedo,
+                      std::optional<RgbImage>& overlay) {
     if (body.mesh) {
       mesh = *body.mesh;
     } else {
       Expected<Mesh> loaded = loadMesh(body.meshPath);
       if (!loaded) {
         std::fprintf(stderr, "hydrotex_demo: %s\n", loaded.error().message.c_str());
-        return 1;
+        return false;
       }
       mesh = std::move(*loaded);
     }
     const auto lookIt = demo.looks.find(body.name);
-    const BodyLook look = lookIt != demo.looks.end() ? lookIt->second : BodyLook{};
-    std::optional<RgbImage> albedo, overlay;
+    look = lookIt != demo.looks.end() ? lookIt->second : BodyLook{};
     for (auto [path, image] : {std::pair{&look.albedoPath, &albedo}, std::pair{&look.overlayPath, &overlay}}) {
       if (path->empty()) continue;
       Expected<RgbImage> loaded = loadRgbImage(*path);
       if (!loaded) {
         std::fprintf(stderr, "hydrotex_demo: body %s: %s\n", body.name.c_str(), loaded.error().message.c_str());
-        return 1;
+        return false;
       }
       *image = std::move(*loaded);
     }
-    Expected<int> id = (*renderer)->addBody(mesh, albedo ? &*albedo : nullptr, overlay ? &*overlay : nullptr, look.palette);
+    return true;
+  };
+  for (const bullet::SceneBody& body : scene->bodies) {
+    Mesh mesh;
+    BodyLook look;
+    std::optional<RgbImage> albedo, overlay;
+    if (!loadBody(body, mesh, look, albedo, overlay)) return 1;
+    // The liquid texture lives in the wetting bake's physics atlas: the same bake the controller
+    // made (same mesh, resolution, settings), so its texel order is the texture's. The atlas is
+    // the artist's UVs when they are usable, else a generated one: either way the renderer gets
+    // its layout as a second UV set, so no resampling between the two is needed.
+    std::optional<BodyGeometry> wettingGeometry;
+    if (body.effects.has(bullet::Effect::Wetting)) {
+      BodyGeometrySettings geometrySettings;
+      geometrySettings.bake.width = geometrySettings.bake.height = body.wetting.resolution > 0 ? body.wetting.resolution : body.resolution;
+      geometrySettings.requireClosed = false;
+      Expected<BodyGeometry> geometry = prepareBodyGeometry(mesh, geometrySettings);
+      if (!geometry) {
+        std::fprintf(stderr, "hydrotex_demo: body %s: wetting bake: %s\n", body.name.c_str(), geometry.error().message.c_str());
+        return 1;
+      }
+      wettingGeometry = std::move(*geometry);
+    }
+    Expected<int> id = (*renderer)->addBody(mesh, albedo ? &*albedo : nullptr, overlay ? &*overlay : nullptr, look.palette,
+                                            wettingGeometry ? &wettingGeometry->atlas.layout : nullptr);
     if (!id) {
       std::fprintf(stderr, "hydrotex_demo: %s\n", id.error().message.c_str());
       return 1;
     }
     rendererIds.push_back(*id);
+    if (wettingGeometry) wetBodies.push_back(WetBody{rendererIds.size() - 1, *id, WetnessImage(wettingGeometry->bake)});
     overlayOpacity.push_back(overlay ? look.overlayOpacity : 0.0);
+    wetnessView.push_back(look.wetnessViewOpacity);
     BodyFigures bodyFigures;
     bodyFigures.name = body.name;
     figures.push_back(bodyFigures);
@@ -206,6 +248,48 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
     model(1, 3) = static_cast<float>(*scene->seabed - 0.1);
     ground = BodyInstance{*id, model, 0.0f};
+  }
+
+  // Static wet scenery: each item is parsed as a scene body (the plugin's keys and checks) and
+  // wetted here through the core API (WetScenery says why).
+  struct SceneryInstance {
+    std::string name;
+    std::unique_ptr<WetScenery> wet;
+    int rendererId = 0;
+    WetnessImage image;
+    BodyInstance instance;
+  };
+  std::vector<SceneryInstance> scenery;
+  for (const SceneryItem& item : demo.scenery) {
+    nlohmann::json wrapped = nlohmann::json::parse(demo.sceneText);
+    wrapped["bodies"] = nlohmann::json::array({nlohmann::json::parse(item.bodyText)});
+    Expected<bullet::Scene> parsed = bullet::parseScene(wrapped.dump(), demo.baseDirectory, "demo_" + demo.name + ".json: scenery");
+    if (!parsed) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", parsed.error().message.c_str());
+      return 1;
+    }
+    const bullet::SceneBody& body = parsed->bodies.front();
+    Mesh mesh;
+    BodyLook look;
+    std::optional<RgbImage> albedo, overlay;
+    if (!loadBody(body, mesh, look, albedo, overlay)) return 1;
+    Expected<std::unique_ptr<WetScenery>> wet = WetScenery::create(body, mesh, item.initialSaturation, item.pigment);
+    if (!wet) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", wet.error().message.c_str());
+      return 1;
+    }
+    Expected<int> id = (*renderer)->addBody(mesh, albedo ? &*albedo : nullptr, overlay ? &*overlay : nullptr, look.palette,
+                                            &(*wet)->geometry().atlas.layout);
+    if (!id) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", id.error().message.c_str());
+      return 1;
+    }
+    Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+    model.topLeftCorner<3, 3>() = (*wet)->pose().rotation.cast<float>();
+    model.topRightCorner<3, 1>() = (*wet)->pose().translation.cast<float>();
+    WetnessImage image((*wet)->geometry().bake);
+    const BodyInstance instance{*id, model, overlay ? float(look.overlayOpacity) : 0.0f, float(look.wetnessViewOpacity)};
+    scenery.push_back(SceneryInstance{body.name, std::move(*wet), *id, std::move(image), instance});
   }
 
   // Frames and the steps between them.
@@ -232,8 +316,18 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   double renderSeconds = 0.0;
 
   for (int frame = 0; frame < frameCount; ++frame) {
-    if (frame > 0)
+    if (frame > 0) {
       for (long long s = 0; s < stepsPerFrame; ++s) sceneWorld.step();
+      // Scenery is wetted once per frame: the wetting step is stable at any time step, and the
+      // sea moves little within one frame.
+      for (SceneryInstance& item : scenery)
+        if (const Status stepped = item.wet->step(sceneWorld.controller().liquid().surface.get(), sceneWorld.controller().time(),
+                                                  double(stepsPerFrame) * scene->dt);
+            !stepped) {
+          std::fprintf(stderr, "\nhydrotex_demo: scenery %s: %s\n", item.name.c_str(), stepped.error().message.c_str());
+          return 1;
+        }
+    }
     const double time = sceneWorld.time();
     FrameInput input;
     input.camera = demo.camera;
@@ -260,7 +354,7 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
       Eigen::Matrix4f model = toMatrix(*meshTransform);
       if (!scene->bodies[i].scaleKeyframes.empty())
         model = model * Eigen::Affine3f(Eigen::Scaling(bullet::scaleAt(scene->bodies[i].scaleKeyframes, time).cast<float>())).matrix();
-      input.bodies.push_back({rendererIds[i], model, static_cast<float>(overlayOpacity[i])});
+      input.bodies.push_back({rendererIds[i], model, static_cast<float>(overlayOpacity[i]), static_cast<float>(wetnessView[i])});
       if (demo.drawPointMasses)
         if (const MassModel* massModel = sceneWorld.controller().massModel(body))
           for (const PointMass& point : massModel->pointMasses()) {
@@ -276,6 +370,12 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
         BodyFigures& f = figures[i];
         f.volume = report->massProperties.volume;
         f.mass = report->massProperties.mass;
+        f.flooding = scene->bodies[i].effects.has(bullet::Effect::Flooding);
+        f.wetting = scene->bodies[i].effects.has(bullet::Effect::Wetting);
+        f.liquidHeld = report->liquidVolume;
+        f.surfaceHeld = report->liquidHeld;
+        f.absorbed = report->liquidAbsorbed;
+        f.evaporated = report->liquidEvaporated;
         f.submergedFraction = f.volume > 0.0 ? report->hydrostatics.submergedVolume / f.volume : 0.0;
         if (!f.sinkTime && f.submergedFraction >= demo.sinkFraction && input.surface->hasFreeSurface()) f.sinkTime = time;
         const btMatrix3x3& basis = meshTransform->getBasis();
@@ -284,6 +384,23 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
         f.trimDegrees = std::asin(std::clamp(double(lengthAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
         f.tiltDegrees = std::acos(std::clamp(double(upAxis.y()), -1.0, 1.0)) * kDegreesPerRadian;
       }
+    }
+    for (const WetBody& wet : wetBodies)
+      if (const LiquidTexture* texture = sceneWorld.controller().liquidTexture(sceneWorld.bodies()[wet.sceneIndex])) {
+        const std::vector<float> pixels = wet.image.pixels(*texture);
+        if (pixels.empty()) continue;  // not the bake the controller made: drawn dry rather than wrong
+        if (const Status set = (*renderer)->setWetness(wet.rendererId, wet.image.width(), wet.image.height(), pixels); !set) {
+          std::fprintf(stderr, "\nhydrotex_demo: %s\n", set.error().message.c_str());
+          return 1;
+        }
+      }
+    for (const SceneryInstance& item : scenery) {
+      const std::vector<float> pixels = item.image.pixels(item.wet->texture());
+      if (const Status set = (*renderer)->setWetness(item.rendererId, item.image.width(), item.image.height(), pixels); !set) {
+        std::fprintf(stderr, "\nhydrotex_demo: %s\n", set.error().message.c_str());
+        return 1;
+      }
+      input.bodies.push_back(item.instance);
     }
     if (ground) input.bodies.push_back(*ground);
     input.lines = lines.lines();
@@ -340,8 +457,20 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     else
       std::snprintf(line, sizeof line, "  %-14s  did not sink\n", "");
     text << line;
-    // Liquid held needs the flooding effect (issue 6): said plainly rather than shown as zero.
-    std::snprintf(line, sizeof line, "  %-14s  liquid held: n/a (flooding is not in this build)\n", "");
+    if (f.flooding) {
+      std::snprintf(line, sizeof line, "  %-14s  liquid held %.3f m^3 (%.0f kg), %.1f %% of its volume\n", "", f.liquidHeld,
+                    f.liquidHeld * scene->fluidDensity, f.volume > 0.0 ? 100.0 * f.liquidHeld / f.volume : 0.0);
+      text << line;
+    }
+    if (f.wetting) {
+      std::snprintf(line, sizeof line, "  %-14s  surface layer holds %.3g L (absorbed %.3g L, evaporated %.3g L)\n", "",
+                    1000.0 * f.surfaceHeld, 1000.0 * f.absorbed, 1000.0 * f.evaporated);
+      text << line;
+    }
+  }
+  for (const SceneryInstance& item : scenery) {
+    std::snprintf(line, sizeof line, "  %-14s  (scenery) surface layer holds %.3g L (absorbed %.3g L, evaporated %.3g L)\n", item.name.c_str(),
+                  1000.0 * item.wet->held(), 1000.0 * item.wet->absorbed(), 1000.0 * item.wet->evaporated());
     text << line;
   }
   text << "  contact sheet    " << sheetPath << "\n";

@@ -9,15 +9,43 @@
 
 #include "RenderMesh.hpp"
 #include "RenderShaders.hpp"
+#include "hydrotex/gpu/EmbeddedShaders.hpp"
 
 namespace hydrotex::render {
 namespace {
 
+// A renderer shader with its `#include "NAME"` lines replaced by the library's embedded shader of
+// that name (gpu/shaders, e.g. wet_shading.glsl): the demos draw with the very code users get.
+Expected<std::string> shaderText(std::string_view name) {
+  const std::string_view text = renderShader(name);
+  if (text.empty()) return Error{"renderer: shader " + std::string(name) + " is not embedded"};
+  std::string out;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(at, end - at);
+    constexpr std::string_view directive = "#include \"";
+    if (line.rfind(directive, 0) == 0 && line.size() > directive.size() + 1 && line.back() == '"') {
+      const std::string_view included = line.substr(directive.size(), line.size() - directive.size() - 1);
+      const std::string_view body = gpu::embeddedShader(included);
+      if (body.empty()) return Error{"renderer: " + std::string(name) + " includes " + std::string(included) + ", which is not embedded"};
+      out += body;
+    } else {
+      out += line;
+    }
+    out += '\n';
+    at = end + 1;
+  }
+  return out;
+}
+
 Expected<GLuint> compileProgram(std::string_view vertexName, std::string_view fragmentName) {
   const GLuint program = glCreateProgram();
   for (const auto& [name, kind] : {std::pair{vertexName, GLenum(GL_VERTEX_SHADER)}, std::pair{fragmentName, GLenum(GL_FRAGMENT_SHADER)}}) {
-    const std::string_view text = renderShader(name);
-    if (text.empty()) return Error{"renderer: shader " + std::string(name) + " is not embedded"};
+    Expected<std::string> resolved = shaderText(name);
+    if (!resolved) return resolved.error();
+    const std::string& text = *resolved;
     const GLuint shader = glCreateShader(kind);
     const GLchar* source = text.data();
     const GLint length = static_cast<GLint>(text.size());
@@ -78,7 +106,9 @@ void setVector(GLuint program, const char* name, const Eigen::Vector3d& v) {
 
 struct GlRenderer::Impl {
   struct Body {
-    GLuint vertexArray = 0, buffer = 0, albedo = 0, overlay = 0;
+    GLuint vertexArray = 0, buffer = 0, albedo = 0, overlay = 0, wetness = 0;
+    int wetnessWidth = 0, wetnessHeight = 0;
+    Eigen::Vector3f pigmentTransmittance = Eigen::Vector3f::Ones();
     GLsizei vertexCount = 0;
     Palette palette = Palette::Heat;
   };
@@ -98,6 +128,7 @@ struct GlRenderer::Impl {
       glDeleteBuffers(1, &b.buffer);
       glDeleteTextures(1, &b.albedo);
       if (b.overlay) glDeleteTextures(1, &b.overlay);
+      if (b.wetness) glDeleteTextures(1, &b.wetness);
     }
     for (GLuint p : {skyProgram, bodyProgram, shadowProgram, waterProgram, lineProgram}) glDeleteProgram(p);
     glDeleteVertexArrays(1, &emptyVertexArray);
@@ -207,8 +238,9 @@ Expected<std::unique_ptr<GlRenderer>> GlRenderer::create(const RendererSettings&
   return renderer;
 }
 
-Expected<int> GlRenderer::addBody(const Mesh& mesh, const RgbImage* albedo, const RgbImage* overlay, Palette palette) {
-  const std::vector<RenderVertex> vertices = unrollMesh(mesh);
+Expected<int> GlRenderer::addBody(const Mesh& mesh, const RgbImage* albedo, const RgbImage* overlay, Palette palette,
+                                  const UvLayout* physicsLayout) {
+  const std::vector<RenderVertex> vertices = unrollMesh(mesh, 40.0, physicsLayout);
   if (vertices.empty()) return Error{"renderer: mesh " + mesh.sourceName + " has no triangles"};
   Impl::Body body;
   body.vertexCount = static_cast<GLsizei>(vertices.size());
@@ -218,9 +250,12 @@ Expected<int> GlRenderer::addBody(const Mesh& mesh, const RgbImage* albedo, cons
   glGenBuffers(1, &body.buffer);
   glBindBuffer(GL_ARRAY_BUFFER, body.buffer);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(RenderVertex)), vertices.data(), GL_STATIC_DRAW);
-  for (GLuint a = 0; a < 3; ++a) {
+  // position, normal, uv, physicsUv
+  constexpr GLint sizes[] = {3, 3, 2, 2};
+  constexpr std::size_t offsets[] = {0, 3, 6, 8};
+  for (GLuint a = 0; a < 4; ++a) {
     glEnableVertexAttribArray(a);
-    glVertexAttribPointer(a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, sizeof(RenderVertex), reinterpret_cast<void*>(std::size_t(a) * 3 * sizeof(float)));
+    glVertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, sizeof(RenderVertex), reinterpret_cast<void*>(offsets[a] * sizeof(float)));
   }
   glBindVertexArray(0);
   body.albedo = makeTexture(albedo != nullptr && !albedo->pixels.empty() ? *albedo : solid(200, 200, 200), true);
@@ -235,6 +270,38 @@ Status GlRenderer::setAlbedo(int body, const RgbImage& albedo) {
   if (body < 0 || body >= static_cast<int>(impl_->bodies.size())) return Error{"renderer: no body " + std::to_string(body)};
   glDeleteTextures(1, &impl_->bodies[static_cast<std::size_t>(body)].albedo);
   impl_->bodies[static_cast<std::size_t>(body)].albedo = makeTexture(albedo, true);
+  return Ok{};
+}
+
+Status GlRenderer::setWetness(int body, int width, int height, const std::vector<float>& wetness,
+                              const Eigen::Vector3f& pigmentTransmittance) {
+  if (body < 0 || body >= static_cast<int>(impl_->bodies.size())) return Error{"renderer: no body " + std::to_string(body)};
+  if (width < 1 || height < 1 || wetness.size() != 2 * std::size_t(width) * std::size_t(height))
+    return Error{"renderer: wetness of body " + std::to_string(body) + " has " + std::to_string(wetness.size()) + " values for 2 x " +
+                 std::to_string(width) + "x" + std::to_string(height)};
+  Impl::Body& b = impl_->bodies[static_cast<std::size_t>(body)];
+  if (b.wetness == 0 || b.wetnessWidth != width || b.wetnessHeight != height) {
+    if (b.wetness) glDeleteTextures(1, &b.wetness);
+    glGenTextures(1, &b.wetness);
+    glBindTexture(GL_TEXTURE_2D, b.wetness);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG16F, width, height, 0, GL_RG, GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    b.wetnessWidth = width;
+    b.wetnessHeight = height;
+  }
+  // Bake row 0 is v = 1, GL's first row is t = 0: upload bottom-up.
+  b.pigmentTransmittance = pigmentTransmittance;
+  std::vector<float> flipped(wetness.size());
+  const std::size_t row = 2 * std::size_t(width);
+  for (int y = 0; y < height; ++y)
+    std::copy_n(wetness.begin() + static_cast<std::ptrdiff_t>(row * std::size_t(height - 1 - y)), row,
+                flipped.begin() + static_cast<std::ptrdiff_t>(row * std::size_t(y)));
+  glBindTexture(GL_TEXTURE_2D, b.wetness);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RG, GL_FLOAT, flipped.data());
   return Ok{};
 }
 
@@ -284,6 +351,7 @@ Expected<RgbImage> GlRenderer::render(const FrameInput& frame) {
   glUniform1i(glGetUniformLocation(gl.bodyProgram, "albedoMap"), 0);
   glUniform1i(glGetUniformLocation(gl.bodyProgram, "overlayMap"), 1);
   glUniform1i(glGetUniformLocation(gl.bodyProgram, "shadowMap"), 2);
+  glUniform1i(glGetUniformLocation(gl.bodyProgram, "wetnessMap"), 3);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, gl.shadowDepth);
   for (const BodyInstance& instance : frame.bodies) {
@@ -297,6 +365,12 @@ Expected<RgbImage> GlRenderer::render(const FrameInput& frame) {
     glBindTexture(GL_TEXTURE_2D, body.albedo);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, body.overlay ? body.overlay : body.albedo);
+    glActiveTexture(GL_TEXTURE3);
+    glBindTexture(GL_TEXTURE_2D, body.wetness ? body.wetness : body.albedo);
+    glUniform1i(glGetUniformLocation(gl.bodyProgram, "hasWetness"), body.wetness ? 1 : 0);
+    glUniform3f(glGetUniformLocation(gl.bodyProgram, "pigmentTransmittance"), body.pigmentTransmittance.x(), body.pigmentTransmittance.y(),
+                body.pigmentTransmittance.z());
+    glUniform1f(glGetUniformLocation(gl.bodyProgram, "wetnessViewOpacity"), body.wetness ? instance.wetnessViewOpacity : 0.0f);
     glBindVertexArray(body.vertexArray);
     glDrawArrays(GL_TRIANGLES, 0, body.vertexCount);
   }

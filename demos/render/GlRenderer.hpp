@@ -47,6 +47,7 @@ struct BodyInstance {
   int body = 0;                                            ///< id from GlRenderer::addBody
   Eigen::Matrix4f model = Eigen::Matrix4f::Identity();     ///< mesh frame to world (scale included)
   float overlayOpacity = 0.0f;                             ///< 0: albedo only; 1: the pseudo-colour map only
+  float wetnessViewOpacity = 0.0f;                         ///< 0: wet shading only; 1: the saturation in pseudo-colour (Palette::Wetness) only
 };
 
 /// Everything that changes per frame.
@@ -72,8 +73,19 @@ class GlRenderer {
   GlRenderer& operator=(const GlRenderer&) = delete;
 
   /// Uploads a body's mesh (mesh frame, m) and its albedo (null: light gray); `overlay` (gray
-  /// levels, null: none) is drawn through `palette`. Returns the body's id.
-  Expected<int> addBody(const Mesh& mesh, const RgbImage* albedo, const RgbImage* overlay, Palette palette);
+  /// levels, null: none) is drawn through `palette`. `physicsLayout` is the UV layout its wetness
+  /// (setWetness) is in, when that is not the mesh's own (a generated physics atlas). Returns the
+  /// body's id.
+  Expected<int> addBody(const Mesh& mesh, const RgbImage* albedo, const RgbImage* overlay, Palette palette,
+                        const UvLayout* physicsLayout = nullptr);
+  /// Sets a body's wetness per texel of its physics atlas, `width` x `height`, row 0 at v = 1
+  /// (SurfaceBake rows), two values per texel: saturation (0..1, liquid / capacity) and pigment
+  /// fraction of the liquid (0..1), as WetnessImage::pixels gives them. Drawn with the Lekner
+  /// and Dorf wet appearance (gpu/shaders/wet_shading.glsl): darker and glossier where wet,
+  /// tinted by the film's transmittance where the liquid is coloured (`pigmentTransmittance`:
+  /// per crossing of a film of pure pigment, per channel). Errors: unknown body, a size that does not match.
+  Status setWetness(int body, int width, int height, const std::vector<float>& wetness,
+                    const Eigen::Vector3f& pigmentTransmittance = Eigen::Vector3f(0.75f, 0.12f, 0.2f));
   /// Replaces a body's albedo (e.g. with its wet-shaded colour as the liquid texture changes).
   Status setAlbedo(int body, const RgbImage& albedo);
 

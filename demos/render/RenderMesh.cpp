@@ -6,7 +6,7 @@
 
 namespace hydrotex::render {
 
-std::vector<RenderVertex> unrollMesh(const Mesh& mesh, double creaseDegrees) {
+std::vector<RenderVertex> unrollMesh(const Mesh& mesh, double creaseDegrees, const UvLayout* physicsLayout) {
   const std::size_t triangleCount = mesh.triangles.size();
   // Area-weighted face normals (length = twice the area) and the faces around each position.
   std::vector<Eigen::Vector3d> faceNormal(triangleCount);
@@ -18,6 +18,7 @@ std::vector<RenderVertex> unrollMesh(const Mesh& mesh, double creaseDegrees) {
   }
   const double creaseCosine = std::cos(creaseDegrees * std::numbers::pi / 180.0);
   const bool hasUvs = mesh.hasUvs();
+  const bool hasPhysicsUvs = physicsLayout != nullptr && physicsLayout->uvTriangles.size() == triangleCount;
   std::vector<RenderVertex> vertices;
   vertices.reserve(3 * triangleCount);
   for (std::size_t t = 0; t < triangleCount; ++t) {
@@ -37,6 +38,13 @@ std::vector<RenderVertex> unrollMesh(const Mesh& mesh, double creaseDegrees) {
         const Eigen::Vector2d& uv = mesh.uv.uvs[mesh.uv.uvTriangles[t][k]];
         v.uv[0] = static_cast<float>(uv.x());
         v.uv[1] = static_cast<float>(uv.y());
+      }
+      v.physicsUv[0] = v.uv[0];
+      v.physicsUv[1] = v.uv[1];
+      if (hasPhysicsUvs) {
+        const Eigen::Vector2d& uv = physicsLayout->uvs[std::size_t(physicsLayout->uvTriangles[t][k])];
+        v.physicsUv[0] = static_cast<float>(uv.x());
+        v.physicsUv[1] = static_cast<float>(uv.y());
       }
       vertices.push_back(v);
     }

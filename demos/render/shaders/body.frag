@@ -1,9 +1,12 @@
 #version 430 core
-// Lambert sun with a 3x3 percentage-closer shadow lookup, hemispheric sky ambient, albedo texture
-// and an optional pseudo-colour overlay of a surface map.
+// Lambert sun with a 3x3 percentage-closer shadow lookup, hemispheric sky ambient, albedo texture,
+// the wet look of the body's liquid texture (Lekner and Dorf, the library's own wet_shading.glsl)
+// and an optional pseudo-colour overlay of a surface map or of the wetness.
+#include "wet_shading.glsl"
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 texCoord;
+in vec2 wetCoord;
 in vec4 lightClip;
 out vec4 colour;
 uniform sampler2D albedoMap;
@@ -13,6 +16,11 @@ uniform vec3 sunDirection;   // towards the scene
 uniform vec3 eye;
 uniform float overlayOpacity;
 uniform int palette;         // 0 heat, 1 viridis, 2 wetness
+uniform sampler2D wetnessMap;   // r: saturation 0..1, g: pigment fraction 0..1, in the physics atlas (wetCoord)
+uniform vec3 pigmentTransmittance; // per crossing of a film of pure pigment
+uniform bool hasWetness;
+uniform float wetnessViewOpacity; // 0: wet shading; 1: saturation in the wetness palette
+const float kWaterIndex = 1.33;   // refractive index of water (the film)
 
 vec3 heat(float x) { return clamp(vec3(3.0 * x, 3.0 * x - 1.0, 3.0 * x - 2.0), 0.0, 1.0); }
 vec3 viridis(float x) {
@@ -36,6 +44,16 @@ void main() {
     float weight = palette == 0 ? overlayOpacity * smoothstep(0.0, 0.15, level) : overlayOpacity;
     albedo = mix(albedo, mapped, weight);
   }
+  float saturation = 0.0;
+  if (hasWetness) {
+    vec2 wet = texture(wetnessMap, wetCoord).rg;
+    saturation = clamp(wet.r, 0.0, 1.0);
+    // Clear water transmits fully (darkening by internal reflection alone); a pigment absorbs:
+    // T = exp(-alpha h) with the absorbing path growing with the pigment's fraction.
+    vec3 transmittance = pow(pigmentTransmittance, vec3(clamp(wet.g, 0.0, 1.0)));
+    albedo = hxWetSurfaceRgb(albedo, saturation, kWaterIndex, transmittance);
+    albedo = mix(albedo, wetness(saturation), wetnessViewOpacity);
+  }
   vec3 projected = lightClip.xyz / lightClip.w * 0.5 + 0.5;
   float lit = 0.0;
   vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
@@ -49,5 +67,7 @@ void main() {
   vec3 ambient = mix(vec3(0.22, 0.20, 0.18), vec3(0.38, 0.45, 0.55), 0.5 + 0.5 * n.y);
   vec3 lightColour = vec3(1.0, 0.96, 0.88) * 0.85;
   float specular = pow(max(dot(reflect(-sun, n), toEye), 0.0), 32.0) * 0.08 * lit;
+  // A liquid film is smooth: a sharp highlight of the film's own reflectance where wet.
+  specular += saturation * pow(max(dot(reflect(-sun, n), toEye), 0.0), 200.0) * 40.0 * hxFilmReflectance(kWaterIndex) * lit;
   colour = vec4(albedo * (ambient + lightColour * diffuse) + specular, 1.0);
 }
