@@ -1,18 +1,20 @@
-// Flat-surface hydrostatics, one workgroup per chunk of up to 1024 texels of one body (4 per
-// invocation): each texel is the planar patch p + s eU + t eV, weighted by the exact submerged
-// fractions of that patch (core/src/HydrostaticSums.hpp, waterlineFractions; the same sums as
-// TextureHydrostatics' flat path), reduced in shared memory to one float Partial per chunk.
-layout(local_size_x = 256) in;
+// Flat-surface hydrostatics over the chunks that cross the surface (listed by
+// hydrostatics_classify.comp; chunks wholly above or under it are done there), one workgroup per
+// chunk of up to 256 texels of one body (4 per invocation): each texel is the planar patch
+// p + s eU + t eV, weighted by the exact submerged fractions of that patch
+// (core/src/HydrostaticSums.hpp, waterlineFractions; the same sums as TextureHydrostatics' flat
+// path), reduced in shared memory to one float Partial per chunk.
+layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Texels { HydroTexel texels[]; };
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
+layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
 
-uniform uint chunkBase;   // global index of this dispatch's first chunk
-uniform uint chunkCount;  // chunks in this dispatch
+uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
 
-const uint kGroup = 256u;
+const uint kGroup = 64u;
 const uint kTexelsPerInvocation = 4u;
 const int kSums = 11;
 
@@ -54,21 +56,10 @@ vec3 waterlineFractions(float d, float a, float b) {
 }
 
 void main() {
-  uint local = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (local >= chunkCount) return;  // the same for the whole workgroup
-  uint chunkIndex = chunkBase + local;
+  uint chunkIndex = crossing[listBase + gl_WorkGroupID.x];
   Chunk chunk = chunks[chunkIndex];
   BodyPose pose = poses[chunk.body];
   vec3 row1 = pose.row1.xyz;
-
-  // A chunk whose bounds lie wholly above the surface (y' >= 0) adds nothing.
-  float centerY = dot(row1, vec3(chunk.centerX, chunk.centerY, chunk.centerZ)) + pose.row1.w;
-  float reachY = dot(abs(row1), vec3(chunk.halfX, chunk.halfY, chunk.halfZ));
-  if (centerY - reachY >= 0.0) {
-    if (gl_LocalInvocationID.x == 0u)
-      for (int k = 0; k < 12; ++k) partials[chunkIndex].value[k] = 0.0;
-    return;
-  }
 
   float sums[kSums];
   for (int k = 0; k < kSums; ++k) sums[k] = 0.0;
@@ -103,20 +94,20 @@ void main() {
   uint lane = gl_LocalInvocationID.x;
   for (int k = 0; k < kSums; ++k) reduction[k][lane] = sums[k];
   barrier();
-  // Two levels (32 lanes sum 8 values each, then one lane sums 32) instead of a tree of 8 barriers:
-  // Quirk (llvmpipe): every barrier switches all 256 invocations' coroutines, which dominated the
+  // Two levels (8 lanes sum 8 values each, then one lane sums 8) instead of a tree of 6 barriers:
+  // Quirk (llvmpipe): every barrier switches all the group's invocations' coroutines, which dominated the
   // pass; on a GPU the two levels cost about the same as the tree.
-  if (lane < 32u)
+  if (lane < 8u)
     for (int k = 0; k < kSums; ++k) {
       float sum = 0.0;
-      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][lane + 32u * j];
+      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][lane + 8u * j];
       reduction[k][lane] = sum;
     }
   barrier();
   if (lane == 0u) {
     for (int k = 0; k < kSums; ++k) {
       float sum = 0.0;
-      for (uint j = 0u; j < 32u; ++j) sum += reduction[k][j];
+      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][j];
       partials[chunkIndex].value[k] = sum;
     }
     partials[chunkIndex].value[11] = 0.0;

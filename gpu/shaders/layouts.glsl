@@ -62,3 +62,20 @@ struct BodyRange {
 struct Partial {
   float value[12];
 };
+
+// Pre-summed moments of one chunk's texels about its bounds centre c (body frame, q = p - c), for
+// the chunks wholly under a flat surface (TextureHydrostatics' tile moments): 0 sum |A| (m^2),
+// 1..3 sum A_k (m^2), 4..12 sum q_i A_k at 4 + 3 i + k (m^3), 13..30 sum q_i q_j A_k at
+// 13 + 3 pair + k, pairs xx xy xz yy yz zz (m^4), 31 unused.
+struct ChunkMoments {
+  float value[32];
+};
+
+// Per storage segment, per step: the indirect dispatch of the texel pass over the chunks that
+// cross the surface (x = their count, y = z = 1) and the count of wholly submerged chunks.
+struct SegmentCounters {
+  uint crossingGroups;
+  uint one0;
+  uint one1;
+  uint submergedChunks;
+};

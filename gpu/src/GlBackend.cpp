@@ -27,9 +27,15 @@ namespace {
 using detail::GlBuffer;
 using detail::GlProgram;
 
-constexpr std::uint32_t kHydroChunkTexels = 1024;  // 256 invocations x 4 texels (hydrostatics_flat.comp)
+constexpr std::uint32_t kHydroChunkTexels = 256;  // 64 invocations x 4 texels (hydrostatics_flat.comp)
+// Hydrostatics chunks are whole bake tiles, merged while they stay under this many texels: the
+// smaller the chunk, the tighter its bounds and the fewer texels the waterline chunks read, the
+// more chunks to classify (bench_gpu, llvmpipe, 1,000 spheres at 256^2: one 16^2 tile per chunk
+// reads 6.7 M texels, four tiles 16.7 M).
+constexpr std::uint32_t kHydroChunkTarget = 256;
 constexpr std::uint32_t kMassChunkTexels = 256;    // TextureMassIntegrator's block (mass_moments.comp)
 constexpr GLuint kMaxGroupsX = 65535;              // GL's guaranteed minimum of GL_MAX_COMPUTE_WORK_GROUP_COUNT
+constexpr GLuint kClassifyGroup = 64;              // invocations per group of hydrostatics_classify.comp
 // A body not asked this step is lifted this far (m) above the surface, so that every chunk of it
 // is culled by its bounds: one test per chunk instead of a second dispatch layout.
 constexpr float kLifted = 1.0e30f;
@@ -52,8 +58,11 @@ struct SegmentedStorage {
   std::vector<std::uint32_t> chunkSegment;  // per global chunk
 
   // Places chunk `chunkIndex` of `count` elements; returns its first element in its segment.
+  // A segment holds at most kMaxGroupsX chunks, so that its indirect dispatch (one group per
+  // crossing chunk, x only) stays within GL's guaranteed group count.
   std::uint32_t place(std::uint32_t chunkIndex, std::uint32_t count) {
-    if (segments.empty() || segments.back().used + count > capacity) {
+    if (segments.empty() || segments.back().used + count > capacity ||
+        segments.back().chunkEnd - segments.back().chunkBegin >= kMaxGroupsX) {
       Segment segment;
       segment.texels = GlBuffer(capacity * elementBytes);
       if (withDensities) segment.densities = GlBuffer(capacity * sizeof(float));
@@ -121,6 +130,7 @@ class GlBackend final : public ComputeBackend {
       out = std::move(program).value();
       return Ok{};
     };
+    if (Status s = build("hydrostatics_classify.comp", false, programs_.classify); !s) return s;
     if (Status s = build("hydrostatics_flat.comp", false, programs_.hydrostatics); !s) return s;
     if (Status s = build("mass_moments.comp", false, programs_.mass); !s) return s;
     if (finalOnGpu_)
@@ -146,12 +156,14 @@ class GlBackend final : public ComputeBackend {
     body.referencePoint = referencePoint;
     const auto id = static_cast<std::uint32_t>(bodies_.size());
     body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
-    for (std::size_t first = 0; first < count; first += kHydroChunkTexels) {
+    for (const auto& [first, chunkCount] : hydroChunkRuns(bake)) {
       layout::Chunk chunk{};
       chunk.body = id;
-      chunk.count = static_cast<std::uint32_t>(std::min<std::size_t>(kHydroChunkTexels, count - first));
+      chunk.count = chunkCount;
       chunk.begin = hydroStorage_.place(static_cast<std::uint32_t>(hydroChunks_.size()), chunk.count);
       hydroChunks_.push_back(chunk);
+      hydroChunkFirst_.push_back(first);
+      hydroMoments_.push_back(layout::ChunkMoments{});
     }
     body.hydroChunkEnd = static_cast<std::uint32_t>(hydroChunks_.size());
     body.massChunkBegin = static_cast<std::uint32_t>(massChunks_.size());
@@ -215,12 +227,8 @@ class GlBackend final : public ComputeBackend {
     }
     tables_.poses.write(0, poses_.data(), poses_.size() * sizeof(layout::BodyPose));
 
-    glUseProgram(programs_.hydrostatics.id());
-    tables_.hydroChunks.bind(1);
-    tables_.poses.bind(2);
-    tables_.partials.bind(3);
     const auto [low, high] = bodyWindow(queries);
-    runSegments(hydroStorage_, programs_.hydrostatics, false, bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd);
+    runHydrostaticsPasses(bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd);
     if (Status s = finalSums(false, low, high); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
@@ -316,9 +324,12 @@ class GlBackend final : public ComputeBackend {
   };
   struct Tables {
     GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
+    GlBuffer chunkMoments;  // per hydro chunk
+    GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per segment
+    GlBuffer counters;      // per segment: SegmentCounters
   };
   struct Programs {
-    GlProgram hydrostatics, mass, reduce;
+    GlProgram classify, hydrostatics, mass, reduce;
   };
 
   static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
@@ -366,7 +377,7 @@ class GlBackend final : public ComputeBackend {
     }
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       layout::Chunk& chunk = hydroChunks_[c];
-      const std::size_t first = std::size_t(c - body.hydroChunkBegin) * kHydroChunkTexels;
+      const std::size_t first = hydroChunkFirst_[c];
       Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
       for (std::size_t i = first; i < first + chunk.count; ++i) {
         // The patch p + s eU + t eV lies within p +- (|eU| + |eV|) / 2 per axis.
@@ -386,6 +397,8 @@ class GlBackend final : public ComputeBackend {
       chunk.halfX = float(half.x());
       chunk.halfY = float(half.y());
       chunk.halfZ = float(half.z());
+      hydroMoments_[c] = chunkMoments(textures, first, chunk.count,
+                                      Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
       hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.write(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
     }
@@ -412,6 +425,127 @@ class GlBackend final : public ComputeBackend {
     }
   }
 
+  // The hydrostatics chunks of a bake as (first texel, count): its tiles (contiguous texel ranges)
+  // merged in order while under kHydroChunkTarget texels, a tile larger than kHydroChunkTexels
+  // split. A bake without a consistent tile table is cut into runs of kHydroChunkTarget.
+  static std::vector<std::pair<std::uint32_t, std::uint32_t>> hydroChunkRuns(const SurfaceBake& bake) {
+    const auto count = static_cast<std::uint32_t>(bake.coveredCount());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;
+    const bool tiled = bake.tileStart.size() >= 2 && bake.tileStart.front() == 0 && bake.tileStart.back() == count &&
+                       std::is_sorted(bake.tileStart.begin(), bake.tileStart.end());
+    if (!tiled) {
+      for (std::uint32_t first = 0; first < count; first += kHydroChunkTarget)
+        runs.emplace_back(first, std::min(kHydroChunkTarget, count - first));
+      return runs;
+    }
+    std::uint32_t first = 0, size = 0;
+    for (std::size_t t = 0; t + 1 < bake.tileStart.size(); ++t) {
+      std::uint32_t begin = bake.tileStart[t];
+      const std::uint32_t end = bake.tileStart[t + 1];
+      if (begin == end) continue;
+      if (size > 0 && size + (end - begin) > kHydroChunkTarget) {
+        runs.emplace_back(first, size);
+        size = 0;
+      }
+      for (; end - begin > kHydroChunkTexels; begin += kHydroChunkTexels) runs.emplace_back(begin, kHydroChunkTexels);
+      if (size == 0) first = begin;
+      size += end - begin;
+    }
+    if (size > 0) runs.emplace_back(first, size);
+    return runs;
+  }
+
+  // The moments of texels [first, first + count) about `center` (double, then float): the sums
+  // TextureHydrostatics keeps per tile, taken about the chunk's centre so that float holds them
+  // to its rounding whatever the body frame's origin.
+  static layout::ChunkMoments chunkMoments(const SurfaceTextures& textures, std::size_t first, std::size_t count,
+                                           const Eigen::Vector3d& center) {
+    double m[32] = {};
+    for (std::size_t i = first; i < first + count; ++i) {
+      const Eigen::Vector3d q = textures.position[i].cast<double>() - center;
+      const Eigen::Vector3d a = textures.areaVector[i].cast<double>();
+      const double pairs[6] = {q.x() * q.x(), q.x() * q.y(), q.x() * q.z(), q.y() * q.y(), q.y() * q.z(), q.z() * q.z()};
+      m[0] += textures.area[i];
+      for (int k = 0; k < 3; ++k) {
+        m[1 + k] += a[k];
+        for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += q[row] * a[k];
+        for (int pair = 0; pair < 6; ++pair) m[13 + 3 * pair + k] += pairs[pair] * a[k];
+      }
+    }
+    layout::ChunkMoments out{};
+    for (int k = 0; k < 32; ++k) out.value[k] = float(m[k]);
+    return out;
+  }
+
+  // The hydrostatics passes over global chunks [first, last) (the asked bodies' window), per
+  // segment: classification (zero, pre-summed moments, or onto the crossing list), then the texel
+  // pass over the crossing list through an indirect dispatch, so that a step reads texels of
+  // waterline chunks only.
+  void runHydrostaticsPasses(std::uint32_t first, std::uint32_t last) {
+    for (layout::SegmentCounters& counter : counters_) counter = {0u, 1u, 1u, 0u};
+    tables_.counters.write(0, counters_.data(), counters_.size() * sizeof(layout::SegmentCounters));
+    tables_.hydroChunks.bind(1);
+    tables_.poses.bind(2);
+    tables_.partials.bind(3);
+    tables_.chunkMoments.bind(5);
+    tables_.crossing.bind(6);
+    tables_.counters.bind(7);
+    glUseProgram(programs_.classify.id());
+    const GLint base = programs_.classify.uniform("chunkBase"), count = programs_.classify.uniform("chunkCount");
+    const GLint segmentUniform = programs_.classify.uniform("segmentIndex"), listUniform = programs_.classify.uniform("listBase");
+    for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
+      const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
+      const std::uint32_t begin = std::max(first, segment.chunkBegin), end = std::min(last, segment.chunkEnd);
+      if (begin >= end) continue;
+      glUniform1ui(base, begin);
+      glUniform1ui(count, end - begin);
+      glUniform1ui(segmentUniform, static_cast<GLuint>(s));
+      glUniform1ui(listUniform, segment.chunkBegin);
+      dispatchGroups((end - begin + kClassifyGroup - 1) / kClassifyGroup);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glUseProgram(programs_.hydrostatics.id());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tables_.counters.id());
+    const GLint listBase = programs_.hydrostatics.uniform("listBase");
+    for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
+      const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
+      if (std::max(first, segment.chunkBegin) >= std::min(last, segment.chunkEnd)) continue;
+      segment.texels.bind(0);
+      glUniform1ui(listBase, segment.chunkBegin);
+      glDispatchComputeIndirect(static_cast<GLintptr>(s * sizeof(layout::SegmentCounters)));
+    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    lastWindow_ = {first, last};
+  }
+
+ public:
+  // What the last hydrostatics call did (reads the counters and crossing lists back).
+  GlHydrostaticsStatistics lastStatistics() {
+    GlHydrostaticsStatistics out;
+    if (!context_->makeCurrent() || counters_.empty()) return out;
+    const auto [first, last] = lastWindow_;
+    out.chunks = last - first;
+    tables_.counters.read(0, counters_.data(), counters_.size() * sizeof(layout::SegmentCounters));
+    std::vector<std::uint32_t> list;
+    for (std::size_t s = 0; s < counters_.size(); ++s) {
+      out.crossingChunks += counters_[s].crossingGroups;
+      out.submergedChunks += counters_[s].submergedChunks;
+      list.resize(counters_[s].crossingGroups);
+      tables_.crossing.read(std::size_t(hydroStorage_.segments[s].chunkBegin) * sizeof(std::uint32_t), list.data(),
+                            list.size() * sizeof(std::uint32_t));
+      for (std::uint32_t c : list) out.texelsRead += c < hydroChunks_.size() ? hydroChunks_[c].count : 0u;
+    }
+    out.dryChunks = out.chunks - out.crossingChunks - out.submergedChunks;
+    // Classification reads every chunk's header and its body's pose; submerged chunks read their
+    // moments; crossing chunks their texels.
+    out.bytesRead = double(out.chunks) * double(sizeof(layout::Chunk) + sizeof(layout::BodyPose)) +
+                    double(out.submergedChunks) * double(sizeof(layout::ChunkMoments)) +
+                    double(out.texelsRead) * double(sizeof(layout::HydroTexel));
+    return out;
+  }
+
+ private:
   // (Re)creates the small per-chunk and per-body tables after bodies were added or changed.
   void ensureTables() {
     if (!tablesDirty_) return;
@@ -434,6 +568,10 @@ class GlBackend final : public ComputeBackend {
     tables_.hydroRanges = upload(hydroRanges_);
     tables_.massRanges = upload(massRanges_);
     tables_.blocks = upload(blocks_);
+    tables_.chunkMoments = upload(hydroMoments_);
+    tables_.crossing = GlBuffer(hydroChunks_.size() * sizeof(std::uint32_t));
+    tables_.counters = GlBuffer(hydroStorage_.segments.size() * sizeof(layout::SegmentCounters));
+    counters_.assign(hydroStorage_.segments.size(), layout::SegmentCounters{});
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
     tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
@@ -522,6 +660,10 @@ class GlBackend final : public ComputeBackend {
   SegmentedStorage hydroStorage_, massStorage_;
   std::vector<layout::Chunk> hydroChunks_, massChunks_;
   std::vector<layout::BlockGeometry> blocks_;  // per mass chunk
+  std::vector<layout::ChunkMoments> hydroMoments_;  // per hydro chunk
+  std::vector<std::uint32_t> hydroChunkFirst_;      // per hydro chunk: its first texel in its body
+  std::vector<layout::SegmentCounters> counters_;   // per hydro segment
+  std::pair<std::uint32_t, std::uint32_t> lastWindow_{0, 0};
   std::vector<Body> bodies_;
   std::vector<layout::BodyRange> hydroRanges_, massRanges_;
   std::vector<layout::BodyPose> poses_;
@@ -549,6 +691,12 @@ Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglConte
   auto backend = std::make_unique<GlBackend>(std::move(context), finalOnGpu, segmentBytes);
   if (Status s = backend->compile(); !s) return s.error();
   return std::unique_ptr<ComputeBackend>(std::move(backend));
+}
+
+Expected<GlHydrostaticsStatistics> lastHydrostaticsStatistics(ComputeBackend& backend) {
+  auto* gl = dynamic_cast<GlBackend*>(&backend);
+  if (gl == nullptr) return Error{"hydrostatics statistics: backend '" + backend.name() + "' is not the GL backend"};
+  return gl->lastStatistics();
 }
 
 Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(const GlBackendSettings& settings) {

@@ -359,3 +359,48 @@ TEST_CASE("GL backend: waves are refused with an error naming the CPU backend", 
   REQUIRE(!status.ok());
   CHECK(status.error().message.find("cpu backend") != std::string::npos);
 }
+
+TEST_CASE("GL backend: submerged chunks add their moments, only crossing chunks read texels", "[backend][gpu]") {
+  // A sphere whose mesh frame origin lies far from it (25 m: the pre-summed moments are taken about
+  // each chunk's centre, so float must still hold them), lowered from above the water to deep
+  // under it. At each depth: the same answer as the CPU backend to issue 7's parity (1e-5
+  // relative on volume, 1e-4 of the size on the centre of buoyancy), and the classification
+  // counted: a floating sphere has chunks of all three kinds and reads fewer texels than it has,
+  // a submerged one reads none.
+  std::vector<std::unique_ptr<ComputeBackend>> backends = allBackends();
+  if (backends.size() < 2) return;
+  const Eigen::Vector3d away(25.0, -18.0, 9.0);
+  Mesh mesh = prim::uvSphere(0.6, 32, 16);
+  for (Eigen::Vector3d& vertex : mesh.positions) vertex += away;
+  BodyGeometrySettings settings;
+  settings.bake.width = settings.bake.height = kResolution;
+  Expected<BodyGeometry> geometry = prepareBodyGeometry(std::move(mesh), settings);
+  REQUIRE(geometry.ok());
+  for (auto& backend : backends)
+    REQUIRE(backend->addBody(geometry->bake, geometry->textures, away).ok());
+  const FlatSurface water(0.0);
+  for (double depth : {-1.1, -0.3, 0.0, 0.25, 0.55, 1.1, 3.0}) {
+    INFO("sphere centre " << depth << " m under the surface");
+    BackendHydrostaticsQuery q;
+    q.query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(20.0, -10.0, 35.0), Eigen::Vector3d(2.0, 0.0, 1.0));
+    // Put the sphere's centre R away + t at height -depth.
+    q.query.pose.translation.y() = -depth - (q.query.pose.rotation * away).y();
+    q.query.centerOfMass = away;
+    const HydrostaticsResult cpu = runBatch(*backends[0], water, {q})[0];
+    const HydrostaticsResult gl = runBatch(*backends[1], water, {q})[0];
+    CHECK(relative(gl.submergedVolume, cpu.submergedVolume) <= 1e-5);
+    if (cpu.submergedVolume > 0.0) CHECK((gl.centerOfBuoyancy - cpu.centerOfBuoyancy).norm() <= 1e-4 * 1.2);
+    const Expected<gpu::GlHydrostaticsStatistics> stats = gpu::lastHydrostaticsStatistics(*backends[1]);
+    REQUIRE(stats.ok());
+    CHECK(stats->dryChunks + stats->submergedChunks + stats->crossingChunks == stats->chunks);
+    if (depth == 0.0) {
+      CHECK(stats->dryChunks > 0);
+      CHECK(stats->submergedChunks > 0);
+      CHECK(stats->crossingChunks > 0);
+      CHECK(stats->texelsRead < geometry->textures.size());
+    }
+    // Wholly under or over: the chunks' body-frame boxes, rotated, reach at most sqrt(3) 0.61 m.
+    if (std::abs(depth) >= 1.1) CHECK(stats->texelsRead == 0);
+  }
+  CHECK(!gpu::lastHydrostaticsStatistics(*backends[0]).ok());
+}

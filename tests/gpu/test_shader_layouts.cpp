@@ -116,7 +116,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 6);
+  CHECK(shader.size() == 8);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -141,6 +141,12 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
               {HYDROTEX_MEMBER(BodyRange, chunkBegin), HYDROTEX_MEMBER(BodyRange, chunkEnd),
                HYDROTEX_MEMBER(BodyRange, mode), HYDROTEX_MEMBER(BodyRange, uniformDensity)});
   checkLayout(shader, "Partial", sizeof(layout::Partial), {HYDROTEX_MEMBER(layout::Partial, value)});
+  checkLayout(shader, "ChunkMoments", sizeof(layout::ChunkMoments), {HYDROTEX_MEMBER(layout::ChunkMoments, value)});
+  using layout::SegmentCounters;
+  checkLayout(shader, "SegmentCounters", sizeof(SegmentCounters),
+              {HYDROTEX_MEMBER(SegmentCounters, crossingGroups), HYDROTEX_MEMBER(SegmentCounters, one0),
+               HYDROTEX_MEMBER(SegmentCounters, one1), HYDROTEX_MEMBER(SegmentCounters, submergedChunks)});
+  CHECK(sizeof(SegmentCounters) == 16);  // glDispatchComputeIndirect reads x, y, z at 16-byte strides
   using layout::BlockGeometry;
   checkLayout(shaderFp64, "BlockGeometry", sizeof(BlockGeometry),
               {HYDROTEX_MEMBER(BlockGeometry, covariance), HYDROTEX_MEMBER(BlockGeometry, absVolume),

@@ -35,6 +35,21 @@ struct GlBackendSettings {
 Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglContext> context,
                                                         const GlBackendSettings& settings = {});
 
+/// What the last hydrostatics call of a GL backend did: its chunks (up to 1024 texels of one
+/// body) classified against the surface by their bounds, as TextureHydrostatics classifies tiles.
+struct GlHydrostaticsStatistics {
+  std::size_t chunks = 0;           ///< chunks classified (those of the asked bodies' index window)
+  std::size_t dryChunks = 0;        ///< wholly above the surface: nothing read
+  std::size_t submergedChunks = 0;  ///< wholly under it: pre-summed moments added in O(1)
+  std::size_t crossingChunks = 0;   ///< crossing it: texel by texel
+  std::size_t texelsRead = 0;       ///< texels of the crossing chunks
+  double bytesRead = 0.0;           ///< chunk headers and poses, moments and texels read (bytes)
+};
+
+/// The statistics of `backend`'s last hydrostatics call (reads its counters back; not for the
+/// per-step path). Error when `backend` is not a GL backend.
+Expected<GlHydrostaticsStatistics> lastHydrostaticsStatistics(ComputeBackend& backend);
+
 /// Opens a headless context (EglContext::create) and makes the GL backend on it. Error when no
 /// context can be opened: callers then use makeCpuBackend().
 Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(const GlBackendSettings& settings = {});

@@ -51,6 +51,21 @@ struct Partial {
   float value[12];  ///< see layouts.glsl
 };
 
+/// Pre-summed moments of one chunk about its bounds centre q = p - c (body frame): [0] sum |A|
+/// (m^2), [1..3] sum A_k (m^2), [4 + 3 i + k] sum q_i A_k (m^3), [13 + 3 pair + k] sum q_i q_j A_k
+/// for the pairs xx xy xz yy yz zz (m^4), [31] unused.
+struct ChunkMoments {
+  float value[32];  ///< see above
+};
+
+/// Per storage segment and step: the texel pass's indirect dispatch and the submerged count.
+struct SegmentCounters {
+  std::uint32_t crossingGroups;   ///< chunks crossing the surface (workgroups of the texel pass)
+  std::uint32_t one0;             ///< 1 (indirect dispatch y)
+  std::uint32_t one1;             ///< 1 (indirect dispatch z)
+  std::uint32_t submergedChunks;  ///< chunks wholly under the surface (their moments were added)
+};
+
 /// Geometry-only sums of one mass block: 3/5 v C (m^5) and sum |v| (m^3).
 struct BlockGeometry {
   double covariance[6];  ///< xx yy zz xy xz yz
