@@ -9,7 +9,11 @@
 #include <set>
 #include <sstream>
 
+#include <BulletSoftBody/btDefaultSoftBodySolver.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+
 #include "BulletEigen.hpp"
+#include "SceneSoftBody.hpp"
 #include "hydrotex/ImageMap.hpp"
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/Pose.hpp"
@@ -447,6 +451,7 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
     }
     if (!body.effects.has(Effect::Wetting)) return reader.error("wetting", "needs \"wetting\" in effects");
   }
+  HYDROTEX_TRY(detail::parseSoftBody(reader.find("soft"), reader.find("soft_material"), path, source, body));
   HYDROTEX_TRY(reader.rejectUnknown());
   const bool hollow = body.shellDensity > 0.0 || body.densityMap != nullptr;
   if (!body.density && !body.mass && !hollow) {
@@ -456,6 +461,7 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
   if (body.density && !(*body.density > 0.0)) return reader.error("density", "must be > 0");
   if (body.mass && !(*body.mass > 0.0)) return reader.error("mass", "must be > 0");
   if (body.resolution < 16 || body.resolution > 4096) return reader.error("resolution", "must lie in 16..4096");
+  if (body.soft) HYDROTEX_TRY(detail::checkSoftBody(body, path, source));
   return body;
 }
 
@@ -478,7 +484,7 @@ Status Scene::validate() const {
   if (!(std::isfinite(viscosity) && viscosity >= 0.0)) return Error{prefix + ": fluid.viscosity: must be >= 0"};
   if (!fluidVelocity.allFinite()) return Error{prefix + ": fluid.velocity: not finite"};
   if (seabed && !std::isfinite(*seabed)) return Error{prefix + ": seabed: not finite"};
-  if (bodies.empty()) return Error{prefix + ": bodies: at least one body is needed"};
+  if (bodies.empty() && softBodies.empty()) return Error{prefix + ": bodies: at least one body is needed"};
   return Ok{};
 }
 
@@ -519,7 +525,7 @@ Expected<Scene> parseScene(const std::string& text, const std::string& baseDirec
     if (!body) return body.error();
     if (body->name.empty()) body->name = "body" + std::to_string(i);
     if (!names.insert(body->name).second) return Error{sourceName + ": " + path + ".name: '" + body->name + "' is used twice"};
-    scene.bodies.push_back(std::move(body).value());
+    (body->soft ? scene.softBodies : scene.bodies).push_back(std::move(body).value());
   }
   HYDROTEX_TRY(reader.rejectUnknown());
   if (Status s = scene.validate(); !s) return s.error();
@@ -554,12 +560,32 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
   if (Status s = scene.validate(); !s) return s.error();
   std::unique_ptr<SceneWorld> self(new SceneWorld());
   self->scene_ = scene;
-  self->configuration_ = std::make_unique<btDefaultCollisionConfiguration>();
+  // Soft bodies need Bullet's soft-rigid world; scenes without them keep the plain one.
+  const bool soft = !scene.softBodies.empty();
+  if (soft) {
+    self->configuration_ = std::make_unique<btSoftBodyRigidBodyCollisionConfiguration>();
+  } else {
+    self->configuration_ = std::make_unique<btDefaultCollisionConfiguration>();
+  }
   self->dispatcher_ = std::make_unique<btCollisionDispatcher>(self->configuration_.get());
   self->broadphase_ = std::make_unique<btDbvtBroadphase>();
   self->solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-  self->world_ = std::make_unique<btDiscreteDynamicsWorld>(self->dispatcher_.get(), self->broadphase_.get(),
-                                                           self->solver_.get(), self->configuration_.get());
+  if (soft) {
+    self->softSolver_ = std::make_unique<btDefaultSoftBodySolver>();
+    auto softWorld = std::make_unique<btSoftRigidDynamicsWorld>(self->dispatcher_.get(), self->broadphase_.get(),
+                                                                self->solver_.get(), self->configuration_.get(),
+                                                                self->softSolver_.get());
+    btSoftBodyWorldInfo& info = softWorld->getWorldInfo();
+    info.m_gravity = toBullet(scene.gravity);
+    info.m_broadphase = self->broadphase_.get();
+    info.m_dispatcher = self->dispatcher_.get();
+    info.air_density = 0;  // the controller's liquid, not Bullet's aerodynamics, acts on the nodes
+    info.m_sparsesdf.Initialize();
+    self->world_ = std::move(softWorld);
+  } else {
+    self->world_ = std::make_unique<btDiscreteDynamicsWorld>(self->dispatcher_.get(), self->broadphase_.get(),
+                                                             self->solver_.get(), self->configuration_.get());
+  }
   self->world_->setGravity(toBullet(scene.gravity));
 
   LiquidSettings liquid;
@@ -626,12 +652,30 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     self->motionStates_.push_back(std::move(motionState));
     self->rigidBodies_.push_back(std::move(body));
   }
+  for (std::size_t i = 0; i < scene.softBodies.size(); ++i) {
+    const SceneBody& sceneBody = scene.softBodies[i];
+    const std::string prefix = scene.sourceName + ": soft body '" + sceneBody.name + "': ";
+    std::shared_ptr<const Mesh> mesh = sceneBody.mesh;
+    if (!mesh) {
+      Expected<Mesh> loaded = loadMesh(sceneBody.meshPath);
+      if (!loaded) return Error{prefix + loaded.error().message};
+      mesh = std::make_shared<const Mesh>(std::move(loaded).value());
+    }
+    Expected<std::unique_ptr<btSoftBody>> created = detail::createSceneSoftBody(
+        sceneBody, *mesh, static_cast<btSoftRigidDynamicsWorld&>(*self->world_), *self->controller_);
+    if (!created) return Error{prefix + created.error().message};
+    self->softBodyPointers_.push_back(created->get());
+    self->softBodies_.push_back(std::move(created).value());
+  }
   return self;
 }
 
 SceneWorld::~SceneWorld() {
   if (world_ && controller_) world_->removeAction(controller_.get());
   controller_.reset();  // gives the bodies their own shapes back while they still exist
+  for (auto& softBody : softBodies_) {
+    if (world_) static_cast<btSoftRigidDynamicsWorld&>(*world_).removeSoftBody(softBody.get());
+  }
   for (auto& body : rigidBodies_) {
     if (world_) world_->removeRigidBody(body.get());
   }

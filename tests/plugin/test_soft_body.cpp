@@ -16,7 +16,9 @@
 
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/Primitives.hpp"
+#include "TestPaths.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
+#include "hydrotex/bullet/Scene.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
@@ -205,4 +207,58 @@ TEST_CASE("soft body registration and steps reject bad input") {
   CHECK(w.controller->removeSoftBody(ball));
   CHECK_FALSE(w.controller->removeSoftBody(ball));
   CHECK(w.controller->softBodyReport(ball) == nullptr);
+}
+
+TEST_CASE("scene key soft: a soft ball from a scene file floats at its draft") {
+  // data/meshes/sphere.obj: radius 0.5 m, 1106 vertices. 150 kg: the cap of 0.15 m^3.
+  const std::string text = R"({
+    "dt": 0.004166666666666667, "duration": 8.0,
+    "bodies": [{"name": "soft ball", "mesh": "sphere.obj", "mass": 150, "position": [0, 0.25, 0],
+                "resolution": 128, "soft": true,
+                "soft_material": {"linear_stiffness": 1.0, "volume_conservation": 50, "damping": 0.01,
+                                  "shape_matching": 0.5, "iterations": 8, "bending_distance": 2}}]})";
+  auto scene = parseScene(text, test::sourcePath("data/meshes"), "soft.json");
+  REQUIRE(scene.ok());
+  REQUIRE(scene->softBodies.size() == 1);
+  CHECK(scene->bodies.empty());  // rigid bodies only: SceneWorld::bodies() stays index for index
+  auto world = SceneWorld::create(*scene);
+  REQUIRE(world.ok());
+  REQUIRE((*world)->softBodies().size() == 1);
+  btSoftBody* ball = (*world)->softBodies()[0];
+  const double radius = 0.5, draft = sphereDraft(radius, 150.0 / kRho);
+  double heightSum = 0.0, worstRadius = 0.0;
+  int samples = 0;
+  for (long long step = 0; step < scene->stepCount(); ++step) {
+    (*world)->step();
+    if (step >= scene->stepCount() * 3 / 4) {
+      const btVector3 c = centerOfMass(*ball);
+      heightSum += double(c.y());
+      for (int i = 0; i < ball->m_nodes.size(); ++i)
+        worstRadius = std::max(worstRadius, std::abs(double((ball->m_nodes[i].m_x - c).length()) - radius));
+      ++samples;
+    }
+  }
+  CHECK(worstRadius < 0.01 * radius);  // it keeps its shape (1%)
+  // 5 mm (1% of the radius): the mesh's volume is ~0.6% below the sphere's (it floats ~1.5 mm
+  // deeper), plus the small flattening and remaining heave of the soft shell.
+  CHECK(heightSum / samples == Approx(radius - draft).margin(5e-3));
+  CHECK((*world)->controller().statistics().failedQueries == 0);
+}
+
+TEST_CASE("scene key soft: what a soft body cannot take is an error naming the key") {
+  const std::string base = test::sourcePath("data/meshes");
+  auto parse = [&](const std::string& body) {
+    return parseScene(R"({"bodies": [{"mesh": "sphere.obj", "mass": 10, )" + body + "}]}", base, "soft.json");
+  };
+  CHECK(parse(R"("soft": true)").ok());
+  CHECK_FALSE(parse(R"("soft": "yes")").ok());
+  CHECK_FALSE(parse(R"("soft_material": {"damping": 0.1})").ok());                    // without soft
+  CHECK_FALSE(parse(R"("soft": true, "soft_material": {"stiffness": 1})").ok());       // unknown key
+  CHECK_FALSE(parse(R"("soft": true, "soft_material": {"damping": 2})").ok());         // out of range
+  CHECK_FALSE(parse(R"("soft": true, "soft_material": {"iterations": 0})").ok());
+  CHECK_FALSE(parse(R"("soft": true, "point_masses": [{"mass": 1, "position": [0, 0, 0]}])").ok());
+  CHECK_FALSE(parse(R"("soft": true, "method": "polyhedral")").ok());
+  const auto message = parse(R"("soft": true, "soft_material": {"stiffness": 1})");
+  REQUIRE_FALSE(message.ok());
+  CHECK(message.error().message.find("soft_material.stiffness") != std::string::npos);
 }

@@ -23,6 +23,19 @@
 
 namespace hydrotex::bullet {
 
+/// Bullet soft-body material of a body with `soft: true` (scene key `soft_material`; every key
+/// optional). Defaults keep a ball's shape (test_soft_body: a 0.25 m ball of 642 nodes stays
+/// within 1 mm of its sphere while floating).
+struct SoftMaterial {
+  double linearStiffness = 1.0;      ///< `linear_stiffness`, 0..1: Bullet's link stiffness m_kLST
+  double volumeConservation = 50.0;  ///< `volume_conservation`, >= 0: Bullet's kVC, pull towards the rest volume
+  double pressure = 0.0;             ///< `pressure`, >= 0: Bullet's kPR (inner pressure times volume, Pa m^3)
+  double damping = 0.01;             ///< `damping`, 0..1: Bullet's kDP, node velocity damping per step
+  double shapeMatching = 0.0;        ///< `shape_matching`, 0..1: Bullet's kMT, pull towards the rest shape moved rigidly (pose matching)
+  int iterations = 8;                ///< `iterations`, 1..100: Bullet's position solver iterations
+  int bendingDistance = 2;           ///< `bending_distance`, 0..4: bending links between nodes up to this many links apart (below 2: none)
+};
+
 /// One body of a scene.
 struct SceneBody {
   std::string name;                                          ///< CSV `body` column
@@ -44,6 +57,8 @@ struct SceneBody {
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
   WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
   FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `liquid_graph`, `liquid_graph_nodes`
+  bool soft = false;                                         ///< `soft: true`: a btSoftBody (nodes: the mesh's vertices), buoyancy only
+  SoftMaterial softMaterial;                                 ///< `soft_material` (soft bodies only)
 };
 
 /// The liquid's free surface.
@@ -67,7 +82,10 @@ struct Scene {
   Eigen::Vector3d fluidVelocity = Eigen::Vector3d::Zero(); ///< m/s, uniform current
   SceneSurface surface;                                 ///< free surface
   std::optional<double> seabed;                         ///< m, static floor height (none when empty)
-  std::vector<SceneBody> bodies;                        ///< at least one
+  std::vector<SceneBody> bodies;                        ///< rigid bodies (at least one body in all)
+  /// Bodies with `soft: true`, in file order; kept apart so that `bodies` and
+  /// SceneWorld::bodies() stay index for index.
+  std::vector<SceneBody> softBodies;
   /// Number of steps the duration takes (rounded to the nearest whole step).
   long long stepCount() const;
   /// One line naming the first impossible value (non-positive dt, NaN, no bodies, ...), or Ok.
@@ -104,6 +122,8 @@ class SceneWorld {
   BuoyancyController& controller() { return *controller_; }
   /// The bodies, in scene order.
   const std::vector<btRigidBody*>& bodies() const { return bodyPointers_; }
+  /// The soft bodies (Scene::softBodies order); a scene with any runs in a btSoftRigidDynamicsWorld.
+  const std::vector<btSoftBody*>& softBodies() const { return softBodyPointers_; }
   /// The scene it runs.
   const Scene& scene() const { return scene_; }
 
@@ -120,6 +140,9 @@ class SceneWorld {
   std::vector<std::unique_ptr<btRigidBody>> rigidBodies_;
   std::vector<btRigidBody*> bodyPointers_;
   std::unique_ptr<BuoyancyController> controller_;
+  std::unique_ptr<btSoftBodySolver> softSolver_;
+  std::vector<std::unique_ptr<btSoftBody>> softBodies_;
+  std::vector<btSoftBody*> softBodyPointers_;
   double time_ = 0.0;
 };
 
