@@ -79,3 +79,32 @@ struct SegmentCounters {
   uint one1;
   uint submergedChunks;
 };
+
+// A deforming body's piece (SurfaceBake's TexelPiece with its share of the texel's UV area), for
+// the GPU re-evaluation of PT/VAT (deform_texels.comp), uploaded once.
+struct DeformPiece {
+  uint triangle;
+  float areaFraction;
+  float centroidBary1;
+  float centroidBary2;
+  float uvShare;
+};
+
+// A deforming body's triangle: vertex indices and the UV-to-surface map's coefficients
+// (SurfaceEvaluator's UvMap: edgeU = cu1 e1 + cu2 e2, edgeV = cv1 e1 + cv2 e2), uploaded once.
+struct DeformTriangle {
+  uint vertex0;
+  uint vertex1;
+  uint vertex2;
+  float cu1;
+  float cu2;
+  float cv1;
+  float cv2;
+};
+
+// Per triangle, per step (deform_triangles.comp): vertex 0, edges e1 e2, area vector, area,
+// texel edges on the surface (m, m^2): 0..2 p0, 3..5 e1, 6..8 e2, 9..11 area vector, 12 area,
+// 13..15 edgeU, 16..18 edgeV, 19 unused.
+struct TriangleFrame {
+  float value[20];
+};

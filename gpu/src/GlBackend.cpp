@@ -133,6 +133,8 @@ class GlBackend final : public ComputeBackend {
     if (Status s = build("hydrostatics_classify.comp", false, programs_.classify); !s) return s;
     if (Status s = build("hydrostatics_flat.comp", false, programs_.hydrostatics); !s) return s;
     if (Status s = build("mass_moments.comp", false, programs_.mass); !s) return s;
+    if (Status s = build("deform_triangles.comp", false, programs_.deformTriangles); !s) return s;
+    if (Status s = build("deform_texels.comp", false, programs_.deformTexels); !s) return s;
     if (finalOnGpu_)
       if (Status s = build("reduce_partials.comp", true, programs_.reduce); !s) return s;
     return Ok{};
@@ -176,7 +178,7 @@ class GlBackend final : public ComputeBackend {
       blocks_.push_back(layout::BlockGeometry{});
     }
     body.massChunkEnd = static_cast<std::uint32_t>(massChunks_.size());
-    bodies_.push_back(body);
+    bodies_.push_back(std::move(body));
     uploadSurface(bodies_.back(), textures);
     tablesDirty_ = true;
     return id;
@@ -187,8 +189,138 @@ class GlBackend final : public ComputeBackend {
     if (Status s = checkTextures(textures, bodies_[id].texelCount); !s) return s;
     if (Status s = context_->makeCurrent(); !s) return s;
     uploadSurface(bodies_[id], textures);
+    bodies_[id].gpuDeformed = false;  // the host's textures are the body's again
     tablesDirty_ = true;
     return Ok{};
+  }
+
+  // See enableGpuDeformation (GlBackend.hpp).
+  Status enableDeformation(BackendBodyId id, const SurfaceBake& bake, const Mesh& mesh, const UvLayout& uvLayout) {
+    if (id >= bodies_.size()) return Error{"gpu deformation: unknown body " + std::to_string(id)};
+    Body& body = bodies_[id];
+    if (bake.coveredCount() != body.texelCount || bake.pieceStart.size() != body.texelCount + 1)
+      return Error{"gpu deformation: the bake has " + std::to_string(bake.coveredCount()) + " texels, body " +
+                   std::to_string(id) + " has " + std::to_string(body.texelCount)};
+    const auto runs = hydroChunkRuns(bake);
+    if (runs.size() != body.hydroChunkEnd - body.hydroChunkBegin)
+      return Error{"gpu deformation: the bake is not the one body " + std::to_string(id) + " was registered with"};
+    if (uvLayout.uvTriangles.size() != mesh.triangles.size())
+      return Error{"gpu deformation: the UV layout has " + std::to_string(uvLayout.uvTriangles.size()) +
+                   " triangles, the mesh " + std::to_string(mesh.triangles.size())};
+    if (Status s = context_->makeCurrent(); !s) return s;
+    // The per-triangle UV maps and per-piece UV shares, as SurfaceEvaluator's constructor makes them.
+    const double texelU = 1.0 / bake.width, texelV = 1.0 / bake.height;
+    const std::size_t triangleCount = mesh.triangles.size();
+    std::vector<layout::DeformTriangle> triangles(triangleCount);
+    std::vector<double> uvArea(triangleCount, 0.0);
+    const int uvCount = static_cast<int>(uvLayout.uvs.size());
+    const auto none = std::numeric_limits<std::uint32_t>::max();
+    for (std::size_t t = 0; t < triangleCount; ++t) {
+      const Eigen::Vector3i& tri = mesh.triangles[t];
+      layout::DeformTriangle& out = triangles[t];
+      out = {none, none, none, 0.0f, 0.0f, 0.0f, 0.0f};
+      if ((tri.array() >= 0).all()) out = {std::uint32_t(tri[0]), std::uint32_t(tri[1]), std::uint32_t(tri[2]), 0.0f, 0.0f, 0.0f, 0.0f};
+      const Eigen::Vector3i& uvTri = uvLayout.uvTriangles[t];
+      if ((uvTri.array() < 0).any() || (uvTri.array() >= uvCount).any()) continue;
+      const Eigen::Vector2d d1 = uvLayout.uvs[uvTri[1]] - uvLayout.uvs[uvTri[0]];
+      const Eigen::Vector2d d2 = uvLayout.uvs[uvTri[2]] - uvLayout.uvs[uvTri[0]];
+      const double det = d1.x() * d2.y() - d2.x() * d1.y();
+      if (det == 0.0 || !std::isfinite(det)) continue;
+      uvArea[t] = 0.5 * std::abs(det);
+      out.cu1 = float(d2.y() / det * texelU);
+      out.cu2 = float(-d1.y() / det * texelU);
+      out.cv1 = float(-d2.x() / det * texelV);
+      out.cv2 = float(d1.x() / det * texelV);
+    }
+    std::vector<layout::DeformPiece> pieces(bake.pieces.size());
+    for (std::size_t i = 0; i < body.texelCount; ++i) {
+      const std::uint32_t begin = bake.pieceStart[i];
+      const std::uint32_t end = std::min<std::uint32_t>(bake.pieceStart[i + 1], std::uint32_t(pieces.size()));
+      double texelUv = 0.0;
+      for (std::uint32_t k = begin; k < end; ++k)
+        if (bake.pieces[k].triangle < triangleCount) texelUv += bake.pieces[k].areaFraction * uvArea[bake.pieces[k].triangle];
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const TexelPiece& piece = bake.pieces[k];
+        const double share = texelUv > 0.0 && piece.triangle < triangleCount
+                                 ? piece.areaFraction * uvArea[piece.triangle] / texelUv : 0.0;
+        pieces[k] = {piece.triangle, piece.areaFraction, piece.centroidBary1, piece.centroidBary2, float(share)};
+      }
+    }
+    std::vector<std::uint32_t> chunkFirst;
+    for (const auto& run : runs) chunkFirst.push_back(run.first);
+    auto upload = [](const auto& items) {
+      GlBuffer buffer(items.size() * sizeof(items[0]));
+      buffer.write(0, items.data(), items.size() * sizeof(items[0]));
+      return buffer;
+    };
+    auto deform = std::make_unique<Deformation>();
+    deform->triangles = upload(triangles);
+    deform->pieceStart = upload(bake.pieceStart);
+    deform->pieces = upload(pieces);
+    deform->chunkFirst = upload(chunkFirst);
+    deform->frames = GlBuffer(triangleCount * sizeof(layout::TriangleFrame));
+    deform->calibration = GlBuffer(runs.size() * sizeof(layout::Partial));
+    deform->vertices = GlBuffer(mesh.positions.size() * 3 * sizeof(float));
+    deform->triangleCount = std::uint32_t(triangleCount);
+    deform->vertexCount = std::uint32_t(mesh.positions.size());
+    deform->pieceCount = std::uint32_t(pieces.size());
+    body.deformation = std::move(deform);
+    return Ok{};
+  }
+
+  // See updateVerticesOnGpu (GlBackend.hpp).
+  Status updateVertices(BackendBodyId id, const std::vector<Eigen::Vector3d>& positions) {
+    if (id >= bodies_.size()) return Error{"gpu deformation: unknown body " + std::to_string(id)};
+    Body& body = bodies_[id];
+    if (!body.deformation) return Error{"gpu deformation: body " + std::to_string(id) + " has no enableGpuDeformation"};
+    if (positions.size() != body.deformation->vertexCount)
+      return Error{"gpu deformation: " + std::to_string(positions.size()) + " vertices, the mesh had " +
+                   std::to_string(body.deformation->vertexCount)};
+    std::vector<float>& packed = vertexScratch_;
+    packed.resize(positions.size() * 3);
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      if (!positions[v].allFinite()) return Error{"gpu deformation: vertex " + std::to_string(v) + " is not finite"};
+      for (int c = 0; c < 3; ++c) packed[3 * v + std::size_t(c)] = float(positions[v][c]);
+    }
+    if (Status s = context_->makeCurrent(); !s) return s;
+    body.deformation->vertices.write(0, packed.data(), packed.size() * sizeof(float));
+    body.gpuDeformed = true;
+    body.calibrationPending = true;
+    if (!tablesDirty_) runDeformation(body);  // else ensureTables runs it on the fresh tables
+    if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+      return Error{"gpu deformation: OpenGL error " + std::to_string(error)};
+    return Ok{};
+  }
+
+  // See readGpuSurface (GlBackend.hpp).
+  Expected<SurfaceTextures> readSurface(BackendBodyId id) {
+    if (id >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(id)};
+    if (Status s = context_->makeCurrent(); !s) return s.error();
+    ensureTables();
+    const Body& body = bodies_[id];
+    SurfaceTextures out;
+    out.position.resize(body.texelCount);
+    out.areaVector.resize(body.texelCount);
+    out.area.resize(body.texelCount);
+    out.edgeU.resize(body.texelCount);
+    out.edgeV.resize(body.texelCount);
+    std::vector<layout::HydroTexel> texels;
+    for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
+      const layout::Chunk& chunk = hydroChunks_[c];
+      texels.resize(chunk.count);
+      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.read(
+          std::size_t(chunk.begin) * sizeof(layout::HydroTexel), texels.data(), texels.size() * sizeof(layout::HydroTexel));
+      for (std::uint32_t k = 0; k < chunk.count; ++k) {
+        const layout::HydroTexel& t = texels[k];
+        const std::size_t i = hydroChunkFirst_[c] + k;
+        out.position[i] = Eigen::Vector3f(t.px, t.py, t.pz);
+        out.areaVector[i] = Eigen::Vector3f(t.ax, t.ay, t.az);
+        out.area[i] = t.area;
+        out.edgeU[i] = Eigen::Vector3f(t.ux, t.uy, t.uz);
+        out.edgeV[i] = Eigen::Vector3f(t.vx, t.vy, t.vz);
+      }
+    }
+    return out;
   }
 
   Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
@@ -210,6 +342,8 @@ class GlBackend final : public ComputeBackend {
     if (queries.empty()) return Ok{};
     if (Status s = context_->makeCurrent(); !s) return s;
     ensureTables();
+    for (const BackendHydrostaticsQuery& q : queries)
+      if (bodies_[q.body].calibrationPending) readCalibration(bodies_[q.body]);
 
     layout::BodyPose lifted{};
     lifted.row0[0] = lifted.row1[1] = lifted.row2[2] = 1.0f;
@@ -251,6 +385,9 @@ class GlBackend final : public ComputeBackend {
       if (bodies_[ids[i]].batch == batch_) return Error{"gpu backend: body " + std::to_string(ids[i]) + " asked twice in one batch"};
       bodies_[ids[i]].batch = batch_;
       const TextureMassModel& model = models[i];
+      if (bodies_[ids[i]].gpuDeformed)
+        return Error{"gpu backend: body " + std::to_string(ids[i]) +
+                     " was deformed on the GPU; its mass texels are not re-evaluated there yet (use updateSurface)"};
       if (!model.texelDensity.empty() && model.texelDensity.size() != bodies_[ids[i]].texelCount)
         return Error{"density map has " + std::to_string(model.texelDensity.size()) + " texels, the bake has " +
                      std::to_string(bodies_[ids[i]].texelCount)};
@@ -311,6 +448,11 @@ class GlBackend final : public ComputeBackend {
   }
 
  private:
+  // A body's GPU re-evaluation data (enableGpuDeformation): uploaded once, but the vertices.
+  struct Deformation {
+    GlBuffer vertices, triangles, frames, pieceStart, pieces, chunkFirst, calibration;
+    std::uint32_t triangleCount = 0, vertexCount = 0, pieceCount = 0;
+  };
   struct Body {
     std::size_t texelCount = 0;
     std::uint32_t hydroChunkBegin = 0, hydroChunkEnd = 0, massChunkBegin = 0, massChunkEnd = 0;
@@ -321,6 +463,9 @@ class GlBackend final : public ComputeBackend {
     Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
     TexelVolumeCalibration calibration;
     std::uint64_t batch = 0;
+    std::unique_ptr<Deformation> deformation;
+    bool gpuDeformed = false;        // its texels on the GPU come from updateVertices, not the host
+    bool calibrationPending = false; // its calibration sums wait on the GPU
   };
   struct Tables {
     GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
@@ -329,7 +474,7 @@ class GlBackend final : public ComputeBackend {
     GlBuffer counters;      // per segment: SegmentCounters
   };
   struct Programs {
-    GlProgram classify, hydrostatics, mass, reduce;
+    GlProgram classify, hydrostatics, mass, reduce, deformTriangles, deformTexels;
   };
 
   static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
@@ -423,6 +568,59 @@ class GlBackend final : public ComputeBackend {
           std::size_t(massChunks_[c].begin) * sizeof(float), densities.data() + first, (last - first) * sizeof(float));
       c = end;
     }
+  }
+
+  // Runs a deforming body's two passes on its current vertices: triangle frames, then per chunk
+  // the texels, bounds, moments and calibration partials (deform_*.comp), one dispatch per segment.
+  void runDeformation(const Body& body) {
+    const Deformation& d = *body.deformation;
+    glUseProgram(programs_.deformTriangles.id());
+    d.vertices.bind(0);
+    d.triangles.bind(1);
+    d.frames.bind(2);
+    glUniform1ui(programs_.deformTriangles.uniform("triangleCount"), d.triangleCount);
+    glUniform1ui(programs_.deformTriangles.uniform("vertexCount"), d.vertexCount);
+    dispatchGroups((d.triangleCount + kClassifyGroup - 1) / kClassifyGroup);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const GlProgram& program = programs_.deformTexels;
+    glUseProgram(program.id());
+    tables_.hydroChunks.bind(1);
+    d.frames.bind(2);
+    d.pieceStart.bind(3);
+    d.pieces.bind(4);
+    tables_.chunkMoments.bind(5);
+    d.chunkFirst.bind(6);
+    d.calibration.bind(7);
+    glUniform1ui(program.uniform("bodyChunkBegin"), body.hydroChunkBegin);
+    glUniform1ui(program.uniform("triangleCount"), d.triangleCount);
+    glUniform1ui(program.uniform("pieceCount"), d.pieceCount);
+    std::uint32_t c = body.hydroChunkBegin;
+    while (c < body.hydroChunkEnd) {
+      std::uint32_t end = c + 1;
+      while (end < body.hydroChunkEnd && hydroStorage_.chunkSegment[end] == hydroStorage_.chunkSegment[c]) ++end;
+      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.bind(0);
+      glUniform1ui(program.uniform("chunkBase"), c - body.hydroChunkBegin);
+      glUniform1ui(program.uniform("chunkCount"), end - c);
+      dispatchGroups(end - c);
+      c = end;
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+
+  // The body's volume calibration from its GPU partials (float per chunk, double over chunks).
+  void readCalibration(Body& body) {
+    std::vector<layout::Partial> partials(body.hydroChunkEnd - body.hydroChunkBegin);
+    body.deformation->calibration.read(0, partials.data(), partials.size() * sizeof(layout::Partial));
+    TexelVolumeCalibration calibration;
+    double triple = 0.0;
+    for (const layout::Partial& p : partials) {
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) calibration.sumPA(i, k) += p.value[3 * i + k];
+      triple += p.value[9];
+    }
+    calibration.enclosedVolume = triple / 3.0;
+    body.calibration = calibration;
+    body.calibrationPending = false;
   }
 
   // The hydrostatics chunks of a bake as (first texel, count): its tiles (contiguous texel ranges)
@@ -572,11 +770,15 @@ class GlBackend final : public ComputeBackend {
     tables_.crossing = GlBuffer(hydroChunks_.size() * sizeof(std::uint32_t));
     tables_.counters = GlBuffer(hydroStorage_.segments.size() * sizeof(layout::SegmentCounters));
     counters_.assign(hydroStorage_.segments.size(), layout::SegmentCounters{});
+    tablesDirty_ = false;
+    // The fresh tables hold the host's chunk bounds and moments: bodies deformed on the GPU
+    // evaluate theirs again from their kept vertices.
+    for (const Body& body : bodies_)
+      if (body.gpuDeformed) runDeformation(body);
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
     tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
-    tablesDirty_ = false;
   }
 
   // One dispatch per segment over its chunks inside [first, last) (binding 0: its texels; 4: its
@@ -664,6 +866,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<std::uint32_t> hydroChunkFirst_;      // per hydro chunk: its first texel in its body
   std::vector<layout::SegmentCounters> counters_;   // per hydro segment
   std::pair<std::uint32_t, std::uint32_t> lastWindow_{0, 0};
+  std::vector<float> vertexScratch_;
   std::vector<Body> bodies_;
   std::vector<layout::BodyRange> hydroRanges_, massRanges_;
   std::vector<layout::BodyPose> poses_;
@@ -697,6 +900,25 @@ Expected<GlHydrostaticsStatistics> lastHydrostaticsStatistics(ComputeBackend& ba
   auto* gl = dynamic_cast<GlBackend*>(&backend);
   if (gl == nullptr) return Error{"hydrostatics statistics: backend '" + backend.name() + "' is not the GL backend"};
   return gl->lastStatistics();
+}
+
+Status enableGpuDeformation(ComputeBackend& backend, BackendBodyId body, const SurfaceBake& bake, const Mesh& mesh,
+                            const UvLayout& layout) {
+  auto* gl = dynamic_cast<GlBackend*>(&backend);
+  if (gl == nullptr) return Error{"gpu deformation: backend '" + backend.name() + "' is not the GL backend"};
+  return gl->enableDeformation(body, bake, mesh, layout);
+}
+
+Status updateVerticesOnGpu(ComputeBackend& backend, BackendBodyId body, const std::vector<Eigen::Vector3d>& positions) {
+  auto* gl = dynamic_cast<GlBackend*>(&backend);
+  if (gl == nullptr) return Error{"gpu deformation: backend '" + backend.name() + "' is not the GL backend"};
+  return gl->updateVertices(body, positions);
+}
+
+Expected<SurfaceTextures> readGpuSurface(ComputeBackend& backend, BackendBodyId body) {
+  auto* gl = dynamic_cast<GlBackend*>(&backend);
+  if (gl == nullptr) return Error{"gpu backend: backend '" + backend.name() + "' is not the GL backend"};
+  return gl->readSurface(body);
 }
 
 Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(const GlBackendSettings& settings) {

@@ -116,7 +116,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 8);
+  CHECK(shader.size() == 11);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -146,7 +146,19 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   checkLayout(shader, "SegmentCounters", sizeof(SegmentCounters),
               {HYDROTEX_MEMBER(SegmentCounters, crossingGroups), HYDROTEX_MEMBER(SegmentCounters, one0),
                HYDROTEX_MEMBER(SegmentCounters, one1), HYDROTEX_MEMBER(SegmentCounters, submergedChunks)});
-  CHECK(sizeof(SegmentCounters) == 16);  // glDispatchComputeIndirect reads x, y, z at 16-byte strides
+  CHECK(sizeof(SegmentCounters) == 16);
+  using layout::DeformPiece;
+  checkLayout(shader, "DeformPiece", sizeof(DeformPiece),
+              {HYDROTEX_MEMBER(DeformPiece, triangle), HYDROTEX_MEMBER(DeformPiece, areaFraction),
+               HYDROTEX_MEMBER(DeformPiece, centroidBary1), HYDROTEX_MEMBER(DeformPiece, centroidBary2),
+               HYDROTEX_MEMBER(DeformPiece, uvShare)});
+  using layout::DeformTriangle;
+  checkLayout(shader, "DeformTriangle", sizeof(DeformTriangle),
+              {HYDROTEX_MEMBER(DeformTriangle, vertex0), HYDROTEX_MEMBER(DeformTriangle, vertex1),
+               HYDROTEX_MEMBER(DeformTriangle, vertex2), HYDROTEX_MEMBER(DeformTriangle, cu1),
+               HYDROTEX_MEMBER(DeformTriangle, cu2), HYDROTEX_MEMBER(DeformTriangle, cv1),
+               HYDROTEX_MEMBER(DeformTriangle, cv2)});
+  checkLayout(shader, "TriangleFrame", sizeof(layout::TriangleFrame), {HYDROTEX_MEMBER(layout::TriangleFrame, value)});  // glDispatchComputeIndirect reads x, y, z at 16-byte strides
   using layout::BlockGeometry;
   checkLayout(shaderFp64, "BlockGeometry", sizeof(BlockGeometry),
               {HYDROTEX_MEMBER(BlockGeometry, covariance), HYDROTEX_MEMBER(BlockGeometry, absVolume),

@@ -7,6 +7,7 @@
 /// partials), results read back once per call.
 
 #include <memory>
+#include <vector>
 
 #include "hydrotex/ComputeBackend.hpp"
 #include "hydrotex/gpu/EglContext.hpp"
@@ -49,6 +50,26 @@ struct GlHydrostaticsStatistics {
 /// The statistics of `backend`'s last hydrostatics call (reads its counters back; not for the
 /// per-step path). Error when `backend` is not a GL backend.
 Expected<GlHydrostaticsStatistics> lastHydrostaticsStatistics(ComputeBackend& backend);
+
+/// Deforming meshes re-evaluated on the GPU (issue 7): keeps `body`'s bake pieces, triangles and UV
+/// maps on the GPU (uploaded once) so that a step uploads only the moved vertex positions
+/// (updateVerticesOnGpu). `bake` must be the one the body was registered with, `mesh` gives the
+/// topology (its triangles) and `layout` the UV layout of the bake. Errors: not a GL backend, an
+/// unknown body, a bake or layout that does not match.
+Status enableGpuDeformation(ComputeBackend& backend, BackendBodyId body, const SurfaceBake& bake, const Mesh& mesh,
+                            const UvLayout& layout);
+
+/// Uploads `positions` (m, body frame; the mesh's vertices, same topology) and re-evaluates the
+/// body's PT, VAT, area and edges (SurfaceEvaluator's formulas, float), its chunk bounds and
+/// pre-summed moments and its volume calibration on the GPU; the next hydrostatics call uses them.
+/// Mass properties of such a body answer an Error until updateSurface gives host textures again
+/// (the mass texels are not re-evaluated on the GPU yet). Errors: no enableGpuDeformation, a
+/// vertex count that differs, a non-finite vertex.
+Status updateVerticesOnGpu(ComputeBackend& backend, BackendBodyId body, const std::vector<Eigen::Vector3d>& positions);
+
+/// Reads a body's texels as the GL backend holds them (bake order): for tests of the GPU
+/// re-evaluation against evaluateSurface. Not for the per-step path.
+Expected<SurfaceTextures> readGpuSurface(ComputeBackend& backend, BackendBodyId body);
 
 /// Opens a headless context (EglContext::create) and makes the GL backend on it. Error when no
 /// context can be opened: callers then use makeCpuBackend().

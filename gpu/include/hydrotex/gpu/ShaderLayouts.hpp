@@ -66,6 +66,26 @@ struct SegmentCounters {
   std::uint32_t submergedChunks;  ///< chunks wholly under the surface (their moments were added)
 };
 
+/// A deforming body's piece: SurfaceBake's TexelPiece and its share of the texel's UV area.
+struct DeformPiece {
+  std::uint32_t triangle;  ///< mesh triangle index
+  float areaFraction;      ///< piece UV area / triangle UV area
+  float centroidBary1;     ///< barycentric of the piece's centroid on vertex 1
+  float centroidBary2;     ///< ... on vertex 2
+  float uvShare;           ///< piece UV area / the texel's covered UV area
+};
+
+/// A deforming body's triangle: vertex indices and UV-to-surface map coefficients (per texel).
+struct DeformTriangle {
+  std::uint32_t vertex0, vertex1, vertex2;  ///< indices into the vertex positions
+  float cu1, cu2, cv1, cv2;                 ///< edgeU = cu1 e1 + cu2 e2, edgeV = cv1 e1 + cv2 e2
+};
+
+/// Per triangle per step: p0 (m), e1, e2 (m), area vector (m^2), area (m^2), edgeU, edgeV (m).
+struct TriangleFrame {
+  float value[20];  ///< see layouts.glsl
+};
+
 /// Geometry-only sums of one mass block: 3/5 v C (m^5) and sum |v| (m^3).
 struct BlockGeometry {
   double covariance[6];  ///< xx yy zz xy xz yz

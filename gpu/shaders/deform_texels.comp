@@ -1,0 +1,152 @@
+// Deforming bodies, second pass: one workgroup per hydrostatics chunk (up to 256 texels, 4 per
+// invocation). Each texel's PT, VAT, area and edges from its pieces and their triangles' frames
+// (core's SurfaceEvaluator::evaluate, the per-texel half, same float operations), written where
+// the hydrostatics pass reads it; then the chunk's bounds (as GlBackend's upload: p +- (|eU| +
+// |eV|) / 2, widened) and its pre-summed moments about the bounds centre (hydrostatics_classify);
+// and the chunk's share of the body's volume calibration (TexelVolumeCalibration: sum p A^T and
+// sum p . A, float partials summed in double on the host).
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) writeonly buffer Texels { HydroTexel texels[]; };
+layout(std430, binding = 1) buffer Chunks { Chunk chunks[]; };
+layout(std430, binding = 2) readonly buffer Frames { TriangleFrame frames[]; };
+layout(std430, binding = 3) readonly buffer PieceStart { uint pieceStart[]; };  // per body texel + 1
+layout(std430, binding = 4) readonly buffer Pieces { DeformPiece pieces[]; };
+layout(std430, binding = 5) writeonly buffer Moments { ChunkMoments moments[]; };
+layout(std430, binding = 6) readonly buffer ChunkFirst { uint chunkFirst[]; };  // per body chunk: first texel
+layout(std430, binding = 7) writeonly buffer Calibration { Partial calibration[]; };  // per body chunk
+
+uniform uint bodyChunkBegin;  // global index of the body's first chunk
+uniform uint chunkBase;       // body-local index of this dispatch's first chunk
+uniform uint chunkCount;      // chunks in this dispatch
+uniform uint triangleCount;
+uniform uint pieceCount;
+
+const uint kGroup = 64u;
+const uint kPerInvocation = 4u;
+shared float reduction[32][kGroup];
+
+// Sums (or min / max) reduction[0..count) over the group into lane 0; every lane must call it.
+void reduceGroup(int count, int minCount, int maxCount) {
+  barrier();
+  for (uint stride = kGroup / 2u; stride > 0u; stride >>= 1u) {
+    uint lane = gl_LocalInvocationID.x;
+    if (lane < stride) {
+      for (int k = 0; k < count; ++k) {
+        float other = reduction[k][lane + stride];
+        if (k < minCount) reduction[k][lane] = min(reduction[k][lane], other);
+        else if (k < minCount + maxCount) reduction[k][lane] = max(reduction[k][lane], other);
+        else reduction[k][lane] += other;
+      }
+    }
+    barrier();
+  }
+}
+
+void main() {
+  uint local = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (local >= chunkCount) return;  // the same for the whole workgroup
+  uint bodyChunk = chunkBase + local;
+  uint chunkIndex = bodyChunkBegin + bodyChunk;
+  Chunk chunk = chunks[chunkIndex];
+  uint lane = gl_LocalInvocationID.x;
+
+  vec3 pos[kPerInvocation], area3[kPerInvocation];
+  float areas[kPerInvocation];
+  vec3 low = vec3(3.0e38), high = vec3(-3.0e38);
+  for (uint n = 0u; n < kPerInvocation; ++n) {
+    pos[n] = vec3(0.0);
+    area3[n] = vec3(0.0);
+    areas[n] = 0.0;
+    uint i = lane + n * kGroup;
+    if (i >= chunk.count) continue;
+    uint texel = chunkFirst[bodyChunk] + i;
+    uint begin = pieceStart[texel], end = min(pieceStart[texel + 1u], pieceCount);
+    vec3 a = vec3(0.0), weighted = vec3(0.0), eu = vec3(0.0), ev = vec3(0.0);
+    float area = 0.0, flux = 0.0;
+    vec3 p = vec3(0.0);
+    bool single = end == begin + 1u && pieces[begin].triangle < triangleCount;
+    for (uint k = begin; k < end; ++k) {
+      DeformPiece piece = pieces[k];
+      if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
+      float f[20] = frames[piece.triangle].value;
+      vec3 p0 = vec3(f[0], f[1], f[2]), e1 = vec3(f[3], f[4], f[5]), e2 = vec3(f[6], f[7], f[8]);
+      vec3 pieceCentroid = p0 + piece.centroidBary1 * e1 + piece.centroidBary2 * e2;
+      vec3 pieceAreaVector = piece.areaFraction * vec3(f[9], f[10], f[11]);
+      float pieceArea = piece.areaFraction * f[12];
+      a += pieceAreaVector;
+      weighted += pieceArea * pieceCentroid;
+      flux += dot(pieceCentroid, pieceAreaVector);
+      eu += piece.uvShare * vec3(f[13], f[14], f[15]);
+      ev += piece.uvShare * vec3(f[16], f[17], f[18]);
+      area += pieceArea;
+      if (single) p = area > 0.0 ? pieceCentroid : vec3(0.0);
+    }
+    if (!single) {
+      p = area > 0.0 ? weighted / area : vec3(0.0);
+      // The shift along A that makes p . A the exact flux, left out where the pieces nearly cancel
+      // (SurfaceEvaluator, evaluateSurface).
+      float squared = dot(a, a);
+      if (squared > 1e-2 * area * area && squared > 0.0) p += a * ((flux - dot(p, a)) / squared);
+    }
+    texels[chunk.begin + i] = HydroTexel(p.x, p.y, p.z, a.x, a.y, a.z, area, eu.x, eu.y, eu.z, ev.x, ev.y, ev.z);
+    pos[n] = p;
+    area3[n] = a;
+    areas[n] = area;
+    vec3 reach = 0.5 * (abs(eu) + abs(ev));
+    low = min(low, p - reach);
+    high = max(high, p + reach);
+  }
+
+  // Bounds, widened as GlBackend's upload widens them (float rounding of the centre and of the
+  // classification's dot products).
+  for (int c = 0; c < 3; ++c) {
+    reduction[c][lane] = low[c];
+    reduction[3 + c][lane] = high[c];
+  }
+  reduceGroup(6, 3, 3);
+  vec3 lowAll = vec3(reduction[0][0], reduction[1][0], reduction[2][0]);
+  vec3 highAll = vec3(reduction[3][0], reduction[4][0], reduction[5][0]);
+  vec3 center = 0.5 * (lowAll + highAll);
+  vec3 halfExtent = 0.5 * (highAll - lowAll) * (1.0 + 1e-5) + vec3(1e-5 * length(center) + 1e-9);
+  barrier();
+
+  // Moments about the centre: area, A, q A^T (9), q q^T A (18 of the 6 pairs).
+  float m[32];
+  for (int k = 0; k < 32; ++k) m[k] = 0.0;
+  float cal[12];
+  for (int k = 0; k < 12; ++k) cal[k] = 0.0;
+  for (uint n = 0u; n < kPerInvocation; ++n) {
+    vec3 q = pos[n] - center, a = area3[n];
+    float pairs[6] = float[6](q.x * q.x, q.x * q.y, q.x * q.z, q.y * q.y, q.y * q.z, q.z * q.z);
+    m[0] += areas[n];
+    for (int k = 0; k < 3; ++k) {
+      m[1 + k] += a[k];
+      for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += q[row] * a[k];
+      for (int pair = 0; pair < 6; ++pair) m[13 + 3 * pair + k] += pairs[pair] * a[k];
+      for (int row = 0; row < 3; ++row) cal[3 * row + k] += pos[n][row] * a[k];
+    }
+    cal[9] += dot(pos[n], a);
+  }
+  for (int k = 0; k < 32; ++k) reduction[k][lane] = m[k];
+  reduceGroup(31, 0, 0);
+  if (lane == 0u) {
+    float total[32];
+    for (int k = 0; k < 32; ++k) total[k] = k < 31 ? reduction[k][0] : 0.0;
+    moments[chunkIndex].value = total;
+    chunks[chunkIndex].centerX = center.x;
+    chunks[chunkIndex].centerY = center.y;
+    chunks[chunkIndex].centerZ = center.z;
+    chunks[chunkIndex].halfX = halfExtent.x;
+    chunks[chunkIndex].halfY = halfExtent.y;
+    chunks[chunkIndex].halfZ = halfExtent.z;
+  }
+  barrier();
+  for (int k = 0; k < 12; ++k) reduction[k][lane] = cal[k];
+  reduceGroup(10, 0, 0);
+  if (lane == 0u) {
+    float total[12];
+    for (int k = 0; k < 12; ++k) total[k] = k < 10 ? reduction[k][0] : 0.0;
+    calibration[bodyChunk].value = total;
+  }
+}
