@@ -43,27 +43,20 @@ SurfaceEvaluator::SurfaceEvaluator(const SurfaceBake& bake, const UvLayout& layo
   if (pieceStart_.size() != texelCount_ + 1) {  // a malformed bake: evaluate nothing
     pieceStart_.assign(texelCount_ + 1, 0);
   }
-  pieceTriangle_.resize(pieceCount);
-  pieceFraction_.resize(pieceCount);
-  pieceBary1_.resize(pieceCount);
-  pieceBary2_.resize(pieceCount);
-  pieceUvShare_.assign(pieceCount, 0.0f);
+  pieces_.resize(pieceCount);
   for (std::size_t k = 0; k < pieceCount; ++k) {
     const TexelPiece& piece = bake.pieces[k];
-    pieceTriangle_[k] = piece.triangle;
-    pieceFraction_[k] = piece.areaFraction;
-    pieceBary1_[k] = piece.centroidBary1;
-    pieceBary2_[k] = piece.centroidBary2;
+    pieces_[k] = Piece{piece.triangle, piece.areaFraction, piece.centroidBary1, piece.centroidBary2, 0.0f};
   }
   for (std::size_t i = 0; i < texelCount_; ++i) {
     const std::uint32_t begin = pieceStart_[i], end = std::min<std::uint32_t>(pieceStart_[i + 1], std::uint32_t(pieceCount));
     double texelUv = 0.0;
     for (std::uint32_t k = begin; k < end; ++k)
-      if (pieceTriangle_[k] < triangleCount) texelUv += pieceFraction_[k] * uvArea[pieceTriangle_[k]];
+      if (pieces_[k].triangle < triangleCount) texelUv += pieces_[k].fraction * uvArea[pieces_[k].triangle];
     if (!(texelUv > 0.0)) continue;
     for (std::uint32_t k = begin; k < end; ++k)
-      if (pieceTriangle_[k] < triangleCount)
-        pieceUvShare_[k] = static_cast<float>(pieceFraction_[k] * uvArea[pieceTriangle_[k]] / texelUv);
+      if (pieces_[k].triangle < triangleCount)
+        pieces_[k].uvShare = static_cast<float>(pieces_[k].fraction * uvArea[pieces_[k].triangle] / texelUv);
   }
 }
 
@@ -102,13 +95,9 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
   out.area.resize(texelCount_);
   out.edgeU.resize(texelCount_);
   out.edgeV.resize(texelCount_);
-  const std::uint32_t* const triangleOf = pieceTriangle_.data();
-  const float* const fractionOf = pieceFraction_.data();
-  const float* const bary1Of = pieceBary1_.data();
-  const float* const bary2Of = pieceBary2_.data();
-  const float* const shareOf = pieceUvShare_.data();
+  const Piece* const pieces = pieces_.data();
   const TriangleFrame* const frames = frames_.data();
-  const std::size_t pieceCount = pieceTriangle_.size();
+  const std::size_t pieceCount = pieces_.size();
 
   for (std::size_t i = 0; i < texelCount_; ++i) {
     const std::uint32_t begin = pieceStart_[i];
@@ -117,16 +106,17 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
     Eigen::Vector3f& areaVector = out.areaVector[i];
     Eigen::Vector3f& edgeU = out.edgeU[i];
     Eigen::Vector3f& edgeV = out.edgeV[i];
-    if (end == begin + 1 && triangleOf[begin] < triangleCount) {
+    if (end == begin + 1 && pieces[begin].triangle < triangleCount) {
       // One piece: its centroid is the position (no shift: centroid . A is the flux itself).
-      const TriangleFrame& f = frames[triangleOf[begin]];
-      const float fraction = fractionOf[begin], b1 = bary1Of[begin], b2 = bary2Of[begin];
-      const float area = fraction * f.area;
+      const Piece& piece = pieces[begin];
+      const TriangleFrame& f = frames[piece.triangle];
+      const float area = piece.fraction * f.area;
+      const float keep = area > 0.0f ? 1.0f : 0.0f;  // a texel of no area sits at the origin
       for (int c = 0; c < 3; ++c) {
-        position[c] = area > 0.0f ? f.p0[c] + b1 * f.e1[c] + b2 * f.e2[c] : 0.0f;
-        areaVector[c] = fraction * f.areaVector[c];
-        edgeU[c] = shareOf[begin] * f.edgeU[c];
-        edgeV[c] = shareOf[begin] * f.edgeV[c];
+        position[c] = keep * (f.p0[c] + piece.bary1 * f.e1[c] + piece.bary2 * f.e2[c]);
+        areaVector[c] = piece.fraction * f.areaVector[c];
+        edgeU[c] = piece.uvShare * f.edgeU[c];
+        edgeV[c] = piece.uvShare * f.edgeV[c];
       }
       out.area[i] = area;
       continue;
@@ -134,24 +124,24 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
     float a[3] = {0, 0, 0}, weighted[3] = {0, 0, 0}, eu[3] = {0, 0, 0}, ev[3] = {0, 0, 0};
     float area = 0.0f, flux = 0.0f;  // flux: sum of centroid . piece area vector
     for (std::uint32_t k = begin; k < end; ++k) {
-      if (triangleOf[k] >= triangleCount) continue;  // a bake of another mesh: skip, never crash
-      const TriangleFrame& f = frames[triangleOf[k]];
-      const float fraction = fractionOf[k], b1 = bary1Of[k], b2 = bary2Of[k], share = shareOf[k];
-      const float pieceArea = fraction * f.area;
+      const Piece& piece = pieces[k];
+      if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
+      const TriangleFrame& f = frames[piece.triangle];
+      const float pieceArea = piece.fraction * f.area;
       for (int c = 0; c < 3; ++c) {
-        const float centroid = f.p0[c] + b1 * f.e1[c] + b2 * f.e2[c];
-        const float pieceAreaVector = fraction * f.areaVector[c];
+        const float centroid = f.p0[c] + piece.bary1 * f.e1[c] + piece.bary2 * f.e2[c];
+        const float pieceAreaVector = piece.fraction * f.areaVector[c];
         a[c] += pieceAreaVector;
         weighted[c] += pieceArea * centroid;
         flux += centroid * pieceAreaVector;
-        eu[c] += share * f.edgeU[c];
-        ev[c] += share * f.edgeV[c];
+        eu[c] += piece.uvShare * f.edgeU[c];
+        ev[c] += piece.uvShare * f.edgeV[c];
       }
       area += pieceArea;
     }
     const Eigen::Vector3f sumA(a[0], a[1], a[2]);
-    Eigen::Vector3f p = area > 0.0f ? Eigen::Vector3f(weighted[0] / area, weighted[1] / area, weighted[2] / area)
-                                    : Eigen::Vector3f::Zero();
+    const float inverseArea = area > 0.0f ? 1.0f / area : 0.0f;
+    Eigen::Vector3f p(weighted[0] * inverseArea, weighted[1] * inverseArea, weighted[2] * inverseArea);
     // The shift along A that makes p . A the exact flux, left out where the pieces nearly cancel
     // (as in evaluateSurface, which explains why).
     const float squared = sumA.squaredNorm();

@@ -115,7 +115,8 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     Chunk cone[6], absVolume = Chunk::Zero(), area = Chunk::Zero(), shellBlock[9];
     for (Chunk& c : cone) c.setZero();
     for (Chunk& c : shellBlock) c.setZero();
-    double blockVolume = 0.0;  // the enclosed volume is exact up to rounding: kept in double
+    // The enclosed volume is exact up to rounding: summed in double lanes (no dependent chain).
+    Eigen::Array<double, int(kChunk), 1> blockVolume = Eigen::Array<double, int(kChunk), 1>::Zero();
     for (std::size_t chunk = begin; chunk < end; chunk += kChunk) {
       const Eigen::Index first = Eigen::Index(chunk), n = Eigen::Index(std::min(kChunk, end - chunk));
       // A whole chunk loads fixed-size (no loop set-up); the last one is padded with zeros, which
@@ -139,7 +140,7 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
       Eigen::Map<Chunk>(dy_.data() + chunk) = y;
       Eigen::Map<Chunk>(dz_.data() + chunk) = z;
       Eigen::Map<Chunk>(volume_.data() + chunk) = v;
-      blockVolume += v.cast<double>().sum();
+      blockVolume += v.cast<double>();
       // Covariance of the texel's patch about its position, (eu eu^T + ev ev^T) / 12 for a whole
       // flat parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered
       // texel (at most 1).
@@ -164,7 +165,7 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     }
     for (std::size_t m = 0; m < 6; ++m) blockCovariance_[6 * b + m] = cone[m].cast<double>().sum();
     blockAbsVolume_[b] = absVolume.cast<double>().sum();
-    volumeSum += blockVolume;
+    volumeSum += blockVolume.sum();
     shellArea += area.cast<double>().sum();
     for (std::size_t m = 0; m < 9; ++m) shell[m] += shellBlock[m].cast<double>().sum();
   }

@@ -15,10 +15,10 @@ namespace hydrotex {
 
 /// Everything of a bake and UV layout that does not depend on where the vertices are, arranged
 /// for one pass per step: per piece its triangle, area fraction, centroid barycentrics and its
-/// share of the texel's UV area (structure of arrays); per triangle the UV-to-surface map's
-/// coefficients. evaluate() then costs one pass over the triangles (area vector, edges, once per
-/// triangle, reused by all its pieces) and one over the pieces; a texel made of one piece (most
-/// of them) needs no accumulation at all.
+/// share of the texel's UV area (one 20-byte record, read in order); per triangle the
+/// UV-to-surface map's coefficients. evaluate() then costs one pass over the triangles (area
+/// vector, edges, once per triangle, reused by all its pieces) and one over the pieces; a texel
+/// made of one piece (most of them) needs no accumulation at all.
 class SurfaceEvaluator {
  public:
   /// An evaluator for nothing (evaluate() gives empty textures).
@@ -37,7 +37,7 @@ class SurfaceEvaluator {
   /// Number of covered texels the output has.
   std::size_t texelCount() const { return texelCount_; }
   /// Number of pieces evaluated per step.
-  std::size_t pieceCount() const { return pieceTriangle_.size(); }
+  std::size_t pieceCount() const { return pieces_.size(); }
 
  private:
   /// Per triangle, evaluated once per step (single precision, one cache line and a bit).
@@ -57,11 +57,15 @@ class SurfaceEvaluator {
 
   int width_ = 0, height_ = 0;
   std::size_t texelCount_ = 0;
+  /// What a step needs of one piece, in the order the texels read them.
+  struct Piece {
+    std::uint32_t triangle = 0;
+    float fraction = 0.0f;  // piece UV area / triangle UV area
+    float bary1 = 0.0f, bary2 = 0.0f;
+    float uvShare = 0.0f;   // piece UV area / texel's covered UV area
+  };
   std::vector<std::uint32_t> pieceStart_;   // per covered texel + 1
-  std::vector<std::uint32_t> pieceTriangle_;
-  std::vector<float> pieceFraction_;        // piece UV area / triangle UV area
-  std::vector<float> pieceBary1_, pieceBary2_;
-  std::vector<float> pieceUvShare_;         // piece UV area / texel's covered UV area
+  std::vector<Piece> pieces_;
   std::vector<UvMap> uvMaps_;               // per layout triangle
   std::vector<TriangleFrame> frames_;       // per mesh triangle, refilled each step
 };
