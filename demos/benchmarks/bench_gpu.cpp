@@ -22,7 +22,10 @@
 #include "hydrotex/Primitives.hpp"
 #if defined(HYDROTEX_WITH_GPU)
 #include "hydrotex/gpu/GlBackend.hpp"
+#include "hydrotex/gpu/GlWettingDiffusion.hpp"
 #endif
+#include "hydrotex/TexelAdjacency.hpp"
+#include "hydrotex/Wetting.hpp"
 
 using namespace hydrotex;
 
@@ -165,6 +168,72 @@ int main(int argc, char** argv) {
     const double mapMs = medianMs(15, [&] { (void)backend->massProperties({&id, 1}, {&mapped, 1}, {&mass, 1}); });
     rows.push_back({name, renderer, "mass 1024^2 one body, density map uploaded", 1, big.textures.size(), mapMs, 15,
                     name == "cpu" ? 0.0 : 20.0 * double(big.textures.size())});
+  }
+
+  // Deforming body at 1024^2 on the GPU: vertices up, re-evaluation, then one hydrostatics query
+  // (its read-back waits for the passes); and the liquid texture's diffusion at 1024^2 (one
+  // explicit sub-step, merging off on both sides; CPU Wetting::diffuse beside it).
+  {
+    WettingSettings wetting;
+    wetting.mergeBelowFraction = 0.0;
+    wetting.maxExplicitSubsteps = 1;
+    Expected<TexelAdjacency> graph = buildTexelAdjacency(big.bake, big.mesh, big.atlas.layout);
+    Expected<Wetting> cpuWetting = graph ? Wetting::create(*graph, big.textures, wetting) : Expected<Wetting>(graph.error());
+    Expected<LiquidTexture> liquid = makeLiquidTexture(big.textures.size(), WettingMaterial{});
+    if (cpuWetting && liquid) {
+      for (std::size_t i = 0; i < liquid->size(); ++i)
+        if (big.textures.position[i].x() > 0.0f) liquid->liquid[i] = liquid->capacity[i];
+      const double dt = cpuWetting->stableTimeStep();
+      LiquidTexture onCpu = *liquid;
+      const double cpuMs = medianMs(7, [&] { (void)cpuWetting->diffuse(onCpu, dt); });
+      // Read: per texel its liquid and row start, per pair end a neighbour, a conductance and the
+      // neighbour's liquid (4 bytes each); written: the liquid.
+      const double pairEnds = 2.0 * double(graph->pairCount());
+      const double bytes = 12.0 * double(liquid->size()) + 12.0 * pairEnds;
+      rows.push_back({"cpu", "CPU", "wetting diffusion 1024^2, one sub-step", 1, liquid->size(), cpuMs, 7, 0.0});
+#if defined(HYDROTEX_WITH_GPU)
+      if (Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create()) {
+        const std::string renderer = (*context)->renderer();
+        if (auto gl = gpu::GlWettingDiffusion::create(**context, *graph, wetting); gl && (*gl)->upload(*liquid)) {
+          LiquidTexture back = *liquid;
+          (void)(*gl)->diffuse(dt);
+          const double syncMs = medianMs(7, [&] { (void)(*gl)->download(back); });
+          const double stepMs = medianMs(7, [&] {
+            (void)(*gl)->diffuse(dt);
+            (void)(*gl)->download(back);
+          });
+          rows.push_back({"gpu", renderer, "wetting diffusion 1024^2, one sub-step", 1, liquid->size(),
+                          std::max(0.0, stepMs - syncMs), 7, bytes});
+        }
+        Expected<std::unique_ptr<ComputeBackend>> backend = gpu::makeGlBackend(std::move(context).value());
+        if (backend) {
+          ComputeBackend& b = **backend;
+          const BackendBodyId id = BackendBodyId(b.addBody(big.bake, big.textures, Eigen::Vector3d::Zero()).value());
+          if (gpu::enableGpuDeformation(b, id, big.bake, big.mesh, big.atlas.layout)) {
+            std::vector<Eigen::Vector3d> moved = big.mesh.positions;
+            BackendHydrostaticsQuery q;
+            q.body = id;
+            HydrostaticsResult result;
+            (void)b.hydrostatics(water, {&q, 1}, {&result, 1});
+            const double queryMs = medianMs(7, [&] { (void)b.hydrostatics(water, {&q, 1}, {&result, 1}); });
+            int frame = 0;
+            const double deformMs = medianMs(7, [&] {
+              const double scale = 1.0 + 0.01 * (++frame % 3);
+              for (std::size_t v = 0; v < moved.size(); ++v) moved[v] = scale * big.mesh.positions[v];
+              (void)gpu::updateVerticesOnGpu(b, id, moved);
+              (void)b.hydrostatics(water, {&q, 1}, {&result, 1});
+            });
+            // Read per step: the vertices, the pieces (20 B) with their texels' piece starts, the
+            // triangle frames (80 B per piece); written: the 52-byte texels.
+            const double deformBytes = 12.0 * double(moved.size()) + 100.0 * double(big.bake.pieces.size()) +
+                                       56.0 * double(big.textures.size());
+            rows.push_back({"gpu", b.renderer(), "deform 1024^2: vertices up, re-evaluate (no query)", 1,
+                            big.textures.size(), std::max(0.0, deformMs - queryMs), 7, deformBytes});
+          }
+        }
+      }
+#endif
+    }
   }
 
   std::printf("%-8s %-34s %-46s %8s %10s %12s %12s\n", "backend", "renderer", "what", "bodies", "texels", "median ms",
