@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "hydrotex/BodyGeometry.hpp"

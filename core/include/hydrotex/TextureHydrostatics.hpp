@@ -3,7 +3,8 @@
 /// The texture path (paper section 2.3; DESIGN.md "Pressure integration", "The waterline inside a
 /// texel", "Hierarchy"): hydrostatics as sums over the texels of a baked surface.
 ///
-/// Built once per body from its bake and surface textures (and again when the mesh deforms);
+/// Built once per body from its bake and surface textures (refreshed in place by update() when
+/// the mesh deforms);
 /// queried once per step. A query neither throws nor allocates.
 
 #include <cstdint>

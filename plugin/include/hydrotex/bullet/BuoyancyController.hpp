@@ -118,7 +118,8 @@ class BuoyancyController : public btActionInterface {
   Status addSoftBody(btSoftBody* body, const SoftBodySettings& settings = {});
   /// Unregisters a soft body. False when unknown.
   bool removeSoftBody(btSoftBody* body);
-  /// Last step's forces on a registered soft body, or null.
+  /// Last step's forces on a registered soft body, or null. Valid until the next addSoftBody or
+  /// removeSoftBody.
   const SoftBodyReport* softBodyReport(const btSoftBody* body) const;
 
   /// Changes mass, centre of mass and inertia (mesh frame) of a registered body, keeping the shape
