@@ -311,9 +311,11 @@ Vector3d shipAlbedo(const Vector3d& p, const Vector3d& n) {
     const double plank = std::fmod(std::abs(p.z()) * 10.0, 1.0) < 0.08 ? 0.75 : 1.0;
     return rgb(176, 132, 84) * grain * plank;
   }
-  if (p.y() < -0.55) return rgb(150, 40, 35) * grain;   // antifouling below the design waterline
-  if (p.y() < -0.5) return rgb(230, 230, 225);            // boot stripe
-  return rgb(25, 45, 80) * grain;                          // topsides
+  // A mid-gray hull from the keel to the deck: wetness darkens mid tones most (Lekner and Dorf:
+  // linear albedo 0.4 falls to 0.26 under water), so the wet band stays readable at a glance, and
+  // no paint line sits near the waterline to be mistaken for it.
+  if (p.y() < -1.05) return rgb(150, 40, 35) * grain;   // antifouling along the keel
+  return rgb(150, 160, 170) * grain;                      // topsides
 }
 
 /// Damage (permeability) map of the ship: white where the hull is holed. Holes are smooth blobs
