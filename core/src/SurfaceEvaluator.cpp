@@ -140,12 +140,14 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
       area += pieceArea;
     }
     const Eigen::Vector3f sumA(a[0], a[1], a[2]);
+    const float squared = sumA.squaredNorm();
+    // Both reciprocals at once (independent divisions overlap; dependent ones would not).
     const float inverseArea = area > 0.0f ? 1.0f / area : 0.0f;
+    const float inverseSquared = squared > 0.0f ? 1.0f / squared : 0.0f;
     Eigen::Vector3f p(weighted[0] * inverseArea, weighted[1] * inverseArea, weighted[2] * inverseArea);
     // The shift along A that makes p . A the exact flux, left out where the pieces nearly cancel
     // (as in evaluateSurface, which explains why).
-    const float squared = sumA.squaredNorm();
-    if (squared > 1e-2f * area * area && squared > 0.0f) p += sumA * ((flux - p.dot(sumA)) / squared);
+    if (squared > 1e-2f * area * area && squared > 0.0f) p += sumA * ((flux - p.dot(sumA)) * inverseSquared);
     position = p;
     areaVector = sumA;
     out.area[i] = area;

@@ -190,50 +190,37 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
 
 namespace {
 
-// Texels per chunk of a tile's moment sums, and lanes within a chunk: the texels are copied to
-// structure-of-arrays doubles and summed in independent lanes that the compiler keeps in SIMD
-// registers (no reassociation needed), then the lanes are added. Double throughout: the hierarchy
-// must give the brute-force sums to double rounding (test_texture_hydrostatics).
+// Texels per chunk of a tile's moment sums: the texels are copied to fixed-size double arrays
+// and every sum is one vectorised reduction over the chunk (Eigen's redux). Double throughout:
+// the hierarchy must give the brute-force sums to double rounding (test_texture_hydrostatics).
 constexpr std::uint32_t kChunk = 16;
-constexpr std::uint32_t kLanes = 2;
-constexpr int kSums = 31;  // area, A (3), p_i A_k (9), p_i p_j A_k (18)
+using ChunkArray = Eigen::Array<double, int(kChunk), 1>;
 
 // Adds the moments of the first `count` (at most kChunk) of `texels` to `m`.
 void addChunkMoments(Moments& m, const Texel* texels, std::uint32_t count) {
-  double x[kChunk] = {}, y[kChunk] = {}, z[kChunk] = {}, ax[kChunk] = {}, ay[kChunk] = {}, az[kChunk] = {},
-         area[kChunk] = {};
-  for (std::uint32_t i = 0; i < count; ++i) {  // to structure of arrays; the padding stays zero
+  ChunkArray p[3], a[3];
+  ChunkArray area;
+  for (std::uint32_t i = 0; i < count; ++i) {  // to structure of arrays
     const Texel& t = texels[i];
-    x[i] = t.position[0];
-    y[i] = t.position[1];
-    z[i] = t.position[2];
-    ax[i] = t.areaVector[0];
-    ay[i] = t.areaVector[1];
-    az[i] = t.areaVector[2];
+    for (int c = 0; c < 3; ++c) {
+      p[c][i] = t.position[c];
+      a[c][i] = t.areaVector[c];
+    }
     area[i] = t.area;
   }
-  double acc[kSums][kLanes] = {};
-  for (std::uint32_t i = 0; i < kChunk; i += kLanes) {
-    for (std::uint32_t l = 0; l < kLanes; ++l) {
-      const std::uint32_t k = i + l;
-      const double p[3] = {x[k], y[k], z[k]};
-      const double a[3] = {ax[k], ay[k], az[k]};
-      const double pairs[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
-      acc[0][l] += area[k];
-      for (int c = 0; c < 3; ++c) {
-        acc[1 + c][l] += a[c];
-        for (int row = 0; row < 3; ++row) acc[4 + 3 * row + c][l] += p[row] * a[c];
-        for (int pair = 0; pair < 6; ++pair) acc[13 + 3 * pair + c][l] += pairs[pair] * a[c];
-      }
-    }
+  for (std::uint32_t i = count; i < kChunk; ++i) {  // padding adds nothing (set one by one: no memset)
+    for (int c = 0; c < 3; ++c) p[c][i] = a[c][i] = 0.0;
+    area[i] = 0.0;
   }
-  double sum[kSums];
-  for (int j = 0; j < kSums; ++j) sum[j] = acc[j][0] + acc[j][1];
-  m.sumArea += sum[0];
+  m.sumArea += area.sum();
+  static constexpr int kPairs[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};  // Moments::sumPPA order
   for (int c = 0; c < 3; ++c) {
-    m.sumA[c] += sum[1 + c];
-    for (int row = 0; row < 3; ++row) m.sumPA[row][c] += sum[4 + 3 * row + c];
-    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][c] += sum[13 + 3 * pair + c];
+    m.sumA[c] += a[c].sum();
+    for (int row = 0; row < 3; ++row) m.sumPA[row][c] += (p[row] * a[c]).sum();
+  }
+  for (int pair = 0; pair < 6; ++pair) {
+    const ChunkArray product = p[kPairs[pair][0]] * p[kPairs[pair][1]];
+    for (int c = 0; c < 3; ++c) m.sumPPA[pair][c] += (product * a[c]).sum();
   }
 }
 
