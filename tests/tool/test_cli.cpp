@@ -1,62 +1,21 @@
 // The `hydrotex` tool as a user meets it: JSON keys and values on good input; a one-line message
 // naming the file or value and a non-zero exit on bad input, never a crash.
 
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "TestPaths.hpp"
+#include "ToolRun.hpp"
 #include "hydrotex/ImageMap.hpp"
 
 namespace {
 
-struct ToolRun {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string readFile(const std::string& path) {
-  std::ifstream file(path);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
-
-/// Runs the tool with `arguments` (already shell-quoted where needed).
-ToolRun runTool(const std::string& arguments) {
-  static int counter = 0;
-  const std::string base = hydrotex::test::outputPath("cli_run_" + std::to_string(++counter));
-  const std::string command = std::string(HYDROTEX_TOOL_PATH) + " " + arguments + " >" + base + ".out 2>" + base + ".err";
-  const int status = std::system(command.c_str());
-  ToolRun run;
-  run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  run.out = readFile(base + ".out");
-  run.err = readFile(base + ".err");
-  return run;
-}
-
-std::string writeScratch(const std::string& name, const std::string& content) {
-  const std::string path = hydrotex::test::outputPath(name);
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
-
-/// Exactly one line on stderr, mentioning `needle`; a failing exit code that is not a crash.
-void requireCleanFailure(const ToolRun& run, const std::string& needle) {
-  INFO("stderr: " << run.err);
-  CHECK(run.exitCode != 0);
-  CHECK(run.exitCode < 128);  // not killed by a signal
-  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
-  CHECK(run.err.find(needle) != std::string::npos);
-  CHECK(run.out.empty());
-}
+using hydrotex::test::requireCleanFailure;
+using hydrotex::test::runTool;
+using hydrotex::test::ToolRun;
+using hydrotex::test::writeScratch;
 
 const std::string kBox = hydrotex::test::sourcePath("data/meshes/box.obj");
 
