@@ -66,8 +66,9 @@ int runMass(const MassOptions& options) {
   if (!options.method.texture()) {
     Expected<Mesh> mesh = loadMesh(options.meshPath);
     if (!mesh) return reportError(mesh.error());
+    mesh->sourceName = options.meshPath;  // its messages start with the name: the path, once
     mass = polyhedralMassProperties(*mesh, options.density);
-    if (!mass) return reportError(Error{options.meshPath + ": " + mass.error().message});
+    if (!mass) return reportError(mass.error());
   } else {
     mass = textureMass(options, backend);
     if (!mass) return reportError(mass.error());
