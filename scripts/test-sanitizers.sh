@@ -24,8 +24,8 @@ cmake --build build-asan -j "$(nproc)" --target "${targets[@]}"
 built=$(date +%s)
 
 # halt_on_error: the first UB report fails the test instead of scrolling past. Leaks are reported
-# (detect_leaks) except those the suppression file lists: third-party code only (Mesa's EGL and
-# llvmpipe, assimp's error paths; see the file).
+# (detect_leaks) except those the suppression file lists: third-party code only (assimp's error
+# paths; see the file). The EGL/llvmpipe suites run with leak detection too: Mesa leaks nothing.
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
