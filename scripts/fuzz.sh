@@ -8,6 +8,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${FUZZ_SECONDS:-60}
+# A fixed seed makes CI's run reproducible (the same inputs in the same order; only how far it gets
+# in the time depends on the machine); FUZZ_SEED=0 lets libFuzzer pick one for exploratory runs.
+seed=${FUZZ_SEED:-1}
 start=$(date +%s)
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g" \
   -DHYDROTEX_FUZZ=ON -DHYDROTEX_SANITIZE=ON -DHYDROTEX_BUILD_TESTS=OFF -DHYDROTEX_BUILD_DEMOS=OFF \
@@ -23,7 +26,7 @@ for target in "${targets[@]}"; do
   corpus=${target#fuzz_}
   mkdir -p "build-fuzz/corpus/$corpus"
   echo "fuzz: $target for $seconds s"
-  build-fuzz/fuzz/"$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+  build-fuzz/fuzz/"$target" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
     -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/"$target"- \
     "build-fuzz/corpus/$corpus" "fuzz/corpus/$corpus" 2>&1 | grep -v '^#[0-9]' || { echo "fuzz: $target failed" >&2; exit 1; }
 done
