@@ -27,20 +27,13 @@
 #include "hydrotex/TexelAdjacency.hpp"
 #include "hydrotex/Wetting.hpp"
 
+#include "BenchmarkTiming.hpp"
+
 using namespace hydrotex;
 
 namespace {
 
-double medianMs(int runs, const std::function<void()>& work) {
-  std::vector<double> times;
-  for (int r = 0; r < runs; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    work();
-    times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
-}
+using bench::medianMs;
 
 // Streaming read bandwidth of this host (bytes/s), best of 5 passes over 512 MiB: the floor's
 // denominator for llvmpipe, whose "GPU memory" is host memory.
