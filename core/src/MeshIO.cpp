@@ -5,6 +5,8 @@
 
 #include "hydrotex/MeshIO.hpp"
 
+#include "MeshImportFileSystem.hpp"
+
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -229,6 +231,7 @@ Expected<Mesh> loadMesh(const std::string& path) {
   if (!std::ifstream(path, std::ios::binary).good()) return fileError(path, "file cannot be opened for reading");
 
   Assimp::Importer importer;
+  importer.SetIOHandler(detail::MeshImportFileSystem::onDisk().release());  // the importer owns it
   const aiScene* scene = importer.ReadFile(path, kImportFlags);
   if (scene == nullptr) return fileError(path, "not a readable mesh: " + oneLine(importer.GetErrorString()));
   return convertScene(*scene, path);
@@ -246,9 +249,12 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
                                });
   if (!hintIsExtension)
     return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
+  // Not ReadFileFromMemory: its file system serves the mesh bytes as the OBJ reader's material
+  // library too (see MeshImportFileSystem.hpp). Without a hint, assimp detects the format.
+  const std::string memoryName = formatHint.empty() ? std::string("mesh") : "mesh." + formatHint;
   Assimp::Importer importer;
-  const aiScene* scene =
-      importer.ReadFileFromMemory(bytes, size, kImportFlags, formatHint.empty() ? "" : formatHint.c_str());
+  importer.SetIOHandler(detail::MeshImportFileSystem::inMemory(bytes, size, memoryName).release());  // owned
+  const aiScene* scene = importer.ReadFile(memoryName, kImportFlags);
   if (scene == nullptr) return fileError(name, "not a readable mesh: " + oneLine(importer.GetErrorString()));
   return convertScene(*scene, name);
 }

@@ -160,6 +160,32 @@ TEST_CASE("loadMeshFromMemory reads what loadMesh reads, and refuses bad hints",
   CHECK_FALSE(loadMeshFromMemory(nullptr, 0, "obj", "nothing.obj").ok());
 }
 
+// Regression (fuzz_mesh, issue 11): assimp 5.2's MTL parser writes through a wild pointer on binary
+// garbage (seen under ASan; silent or a crash elsewhere). ReadFileFromMemory handed it the mesh
+// bytes themselves as the OBJ's fallback material library; on disk, a corrupt .mtl beside the OBJ
+// reached it. hydrotex reads no material library at all, so both load the triangles cleanly.
+TEST_CASE("a corrupt material library is never parsed", "[robustness][bad-input][mesh]") {
+  // The fuzzer's input: one byte picking the "obj" hint, binary garbage, then an OBJ cube.
+  const std::string input = readFile(hydrotex::test::sourcePath("fuzz/corpus/mesh/obj-garbage-mtl-fallback.bin"));
+  REQUIRE(input.size() > 1);
+  const Expected<Mesh> fromMemory = loadMeshFromMemory(input.data() + 1, input.size() - 1, "obj", "fuzz.obj");
+  // The leading garbage is not OBJ: a clean error naming the file (no crash is the point).
+  REQUIRE_FALSE(fromMemory.ok());
+  checkMessage(fromMemory.error().message, "fuzz.obj", "not a readable mesh");
+
+  // On disk: a valid cube whose material library is those garbage bytes.
+  writeScratch("robust_corrupt_materials.mtl", input);
+  const std::string path = writeScratch("robust_corrupt_materials.obj", "mtllib robust_corrupt_materials.mtl\nusemtl hull\n" + validCubeObj());
+  const Expected<Mesh> fromDisk = loadMesh(path);
+  REQUIRE(fromDisk.ok());
+  CHECK(fromDisk->triangles.size() == 12);
+  // The same text from memory: nothing else is opened (no .mtl looked up in the working directory).
+  const std::string text = readFile(path);
+  const Expected<Mesh> textFromMemory = loadMeshFromMemory(text.data(), text.size(), "obj", "cube.obj");
+  REQUIRE(textFromMemory.ok());
+  CHECK(textFromMemory->triangles.size() == 12);
+}
+
 #ifdef HYDROTEX_TOOL_PATH
 TEST_CASE("bad mesh files: the tool exits non-zero with one line naming the file", "[robustness][bad-input][mesh][tool]") {
   using hydrotex::test::requireCleanFailure;

@@ -25,13 +25,15 @@ inline constexpr double kMaxMeshCoordinate = 1e12;
 /// (channel 0) are kept as their own index stream, only when every triangle has them. Points and
 /// lines are ignored. Errors (one line, starting with `path`): missing or unreadable file, empty
 /// file, file too large, not a mesh / unsupported format, no triangles, a NaN or infinite vertex,
-/// coordinates beyond kMaxMeshCoordinate.
+/// coordinates beyond kMaxMeshCoordinate. Material libraries (.mtl) are never read: hydrotex uses
+/// no materials, and assimp's MTL parser is unsafe on a corrupt one.
 Expected<Mesh> loadMesh(const std::string& path);
 
 /// loadMesh for a file already in memory (`size` bytes at `bytes`: a download, an archive entry, a
 /// fuzzer's input). `formatHint` is the file extension that picks assimp's reader, without the dot
-/// ("obj", "stl", "glb", ...); messages start with `name`. A format that refers to other files (an
-/// OBJ's .mtl, a glTF's .bin) looks for them in the current directory. Same errors as loadMesh.
+/// ("obj", "stl", "glb", ...); empty lets assimp detect it. Messages start with `name`. Only these
+/// bytes are read: a format that refers to other files (a .gltf's .bin) fails, so use a
+/// self-contained one (.glb). Same errors as loadMesh.
 Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std::string& formatHint,
                                   const std::string& name);
 
