@@ -4,6 +4,9 @@
 // pre-summed moments in O(1) (the expansion of HydrostaticSums.cpp, addSubmergedMoments, about the
 // chunk's centre); only a chunk that crosses the surface is appended to its segment's list, which
 // the texel pass (hydrostatics_flat.comp) then runs over through an indirect dispatch.
+// With surfaceMode (waves, grids, media: hydrostatics_surface.comp) a chunk is dry only above its
+// body's dryLevels entry (the surface's highest point in the body's frame) and every other chunk
+// goes to the texel pass: the pressure under such a surface has no pre-summed form.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
@@ -12,11 +15,14 @@ layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 5) readonly buffer Moments { ChunkMoments moments[]; };
 layout(std430, binding = 6) writeonly buffer Crossing { uint crossing[]; };
 layout(std430, binding = 7) buffer Counters { SegmentCounters counters[]; };
+layout(std430, binding = 0) readonly buffer DryLevels { float dryLevels[]; };        // per body (surfaceMode)
+layout(std430, binding = 4) writeonly buffer HeadPartials { Partial headPartials[]; };  // per chunk (surfaceMode)
 
 uniform uint chunkBase;     // global index of this dispatch's first chunk
 uniform uint chunkCount;    // chunks in this dispatch
 uniform uint segmentIndex;  // the storage segment these chunks lie in
 uniform uint listBase;      // where the segment's crossing list starts in Crossing
+uniform bool surfaceMode;   // not a flat plane: see above
 
 void main() {
   uint local = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
@@ -29,11 +35,14 @@ void main() {
   // Posed chunk centre X = R c + offset; the chunk reaches |r1| . half above and below it.
   vec3 X = vec3(dot(r0, center) + pose.row0.w, dot(r1, center) + pose.row1.w, dot(r2, center) + pose.row2.w);
   float reachY = dot(abs(r1), vec3(chunk.halfX, chunk.halfY, chunk.halfZ));
-  if (X.y - reachY >= 0.0) {  // wholly above: adds nothing
+  float dryLevel = surfaceMode ? dryLevels[chunk.body] : 0.0;
+  if (X.y - reachY >= dryLevel) {  // wholly above: adds nothing
     for (int k = 0; k < 12; ++k) partials[chunkIndex].value[k] = 0.0;
+    if (surfaceMode)
+      for (int k = 0; k < 12; ++k) headPartials[chunkIndex].value[k] = 0.0;
     return;
   }
-  if (X.y + reachY > 0.0) {  // crosses the surface: texel by texel
+  if (surfaceMode || X.y + reachY > 0.0) {  // crosses the surface: texel by texel
     uint slot = atomicAdd(counters[segmentIndex].crossingGroups, 1u);
     crossing[listBase + slot] = chunkIndex;
     return;

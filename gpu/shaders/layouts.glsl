@@ -108,3 +108,25 @@ struct DeformTriangle {
 struct TriangleFrame {
   float value[20];
 };
+
+// One Gerstner wave for the wavy-surface pass (core's GerstnerWaves::Component, in float): wave
+// number k (1/m), unit travel direction (x, z), amplitude A (m) and horizontal displacement Q A
+// (m). Its phase depends on the body's frame origin and the time: per body, in BodySurface data.
+struct GerstnerComponent {
+  float waveNumber;
+  float dirX;
+  float dirZ;
+  float amplitude;
+  float horizontal;
+};
+
+// A body's place on a height grid (HeightGrid): the cell holding its frame origin o, o's offset
+// inside that cell (in spacings) and the height of the uploaded samples' reference above o_y (m),
+// so that the pass works with small numbers wherever the grid and the body lie.
+struct GridFrame {
+  int cellX;
+  int cellZ;
+  float fracX;
+  float fracZ;
+  float heightOffset;
+};

@@ -39,6 +39,7 @@ constexpr GLuint kClassifyGroup = 64;              // invocations per group of h
 // A body not asked this step is lifted this far (m) above the surface, so that every chunk of it
 // is culled by its bounds: one test per chunk instead of a second dispatch layout.
 constexpr float kLifted = 1.0e30f;
+constexpr double kTwoPi = 6.28318530717958647692;
 
 // Append-only storage for one kind of texel, split into buffers ("segments").
 // Quirk (llvmpipe): GL_MAX_SHADER_STORAGE_BLOCK_SIZE is 128 MiB (the spec's minimum), less than
@@ -117,13 +118,18 @@ class GlBackend final : public ComputeBackend {
     const std::string_view version = "#version 430 core\n";
     const std::string_view fp64 = "#extension GL_ARB_gpu_shader_fp64 : require\n";
     const std::string_view layouts = embeddedShader("layouts.glsl");
-    auto build = [&](const char* name, bool needsFp64, GlProgram& out) -> Status {
+    const std::string_view waterline = embeddedShader("waterline.glsl");
+    // `define` selects a variant of one shader file (hydrostatics_surface.comp's surface kinds).
+    auto build = [&](const char* name, bool needsFp64, GlProgram& out, std::string_view define = {}) -> Status {
       const std::string_view body = embeddedShader(name);
-      if (body.empty() || layouts.empty()) return Error{std::string("gpu backend: shader ") + name + " is not embedded"};
+      if (body.empty() || layouts.empty() || waterline.empty())
+        return Error{std::string("gpu backend: shader ") + name + " is not embedded"};
       std::vector<std::string_view> parts = {version};
       if (needsFp64) parts.push_back(fp64);
+      if (!define.empty()) parts.push_back(define);
       parts.push_back(layouts);
       if (needsFp64) parts.push_back(embeddedShader("layouts_fp64.glsl"));
+      parts.push_back(waterline);
       parts.push_back(body);
       Expected<GlProgram> program = GlProgram::compute(name, parts);
       if (!program) return Error{"gpu backend: " + program.error().message};
@@ -132,6 +138,9 @@ class GlBackend final : public ComputeBackend {
     };
     if (Status s = build("hydrostatics_classify.comp", false, programs_.classify); !s) return s;
     if (Status s = build("hydrostatics_flat.comp", false, programs_.hydrostatics); !s) return s;
+    if (Status s = build("hydrostatics_surface.comp", false, programs_.gerstner, "#define SURFACE_GERSTNER\n"); !s) return s;
+    if (Status s = build("hydrostatics_surface.comp", false, programs_.grid, "#define SURFACE_GRID\n"); !s) return s;
+    if (Status s = build("hydrostatics_surface.comp", false, programs_.medium, "#define SURFACE_MEDIUM\n"); !s) return s;
     if (Status s = build("mass_moments.comp", false, programs_.mass); !s) return s;
     if (Status s = build("deform_triangles.comp", false, programs_.deformTriangles); !s) return s;
     if (Status s = build("deform_texels.comp", false, programs_.deformTexels); !s) return s;
@@ -328,9 +337,8 @@ class GlBackend final : public ComputeBackend {
     if (results.size() < queries.size())
       return Error{"gpu backend: " + std::to_string(queries.size()) + " queries, room for " +
                    std::to_string(results.size()) + " results"};
-    const std::optional<double> flat = surface.flatHeight();
-    if (!flat || !surface.hasFreeSurface())
-      return Error{"gpu backend: only flat liquid surfaces run on the GPU; use the cpu backend for waves, grids and media"};
+    const Expected<SurfaceKind> kind = surfaceKind(surface);
+    if (!kind) return kind.error();
     ++batch_;
     for (const BackendHydrostaticsQuery& q : queries) {
       if (q.body >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(q.body)};
@@ -338,6 +346,27 @@ class GlBackend final : public ComputeBackend {
       bodies_[q.body].batch = batch_;
       if (Status valid = validateHydrostaticsQuery(surface, q.query); !valid)
         return Error{"gpu backend: body " + std::to_string(q.body) + ": " + valid.error().message};
+    }
+    // Each body's frame origin o, as TextureHydrostatics::query picks it: (t_x, h, t_z) with h the
+    // plane's height, or the surface's height above the centre of mass; t for a medium.
+    origins_.resize(queries.size());
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const HydrostaticsQuery& q = queries[i].query;
+      const Eigen::Vector3d& t = q.pose.translation;
+      if (*kind == SurfaceKind::Medium) {
+        origins_[i] = t;
+        continue;
+      }
+      double height = 0.0;
+      if (*kind == SurfaceKind::Flat) {
+        height = *surface.flatHeight();
+      } else {
+        const Eigen::Vector3d centerOfMass = q.pose.apply(q.centerOfMass);
+        height = surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), q.time);
+        if (!std::isfinite(height))
+          return Error{"gpu backend: body " + std::to_string(queries[i].body) + ": the liquid surface height is not finite"};
+      }
+      origins_[i] = Eigen::Vector3d(t.x(), height, t.z());
     }
     if (queries.empty()) return Ok{};
     if (Status s = context_->makeCurrent(); !s) return s;
@@ -349,27 +378,59 @@ class GlBackend final : public ComputeBackend {
     lifted.row0[0] = lifted.row1[1] = lifted.row2[2] = 1.0f;
     lifted.row1[3] = kLifted;
     std::fill(poses_.begin(), poses_.end(), lifted);
-    for (const BackendHydrostaticsQuery& q : queries) {
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      const BackendHydrostaticsQuery& q = queries[i];
       const Eigen::Matrix3d& r = q.query.pose.rotation;
-      // x' = R p + (t - o), o = (t_x, h, t_z): only the vertical offset is not zero.
-      const double offset[3] = {0.0, q.query.pose.translation.y() - *flat, 0.0};
+      // x' = R p + (t - o): only the vertical offset is not zero.
+      const double offset[3] = {0.0, q.query.pose.translation.y() - origins_[i].y(), 0.0};
       float* rows[3] = {poses_[q.body].row0, poses_[q.body].row1, poses_[q.body].row2};
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) rows[i][j] = static_cast<float>(r(i, j));
-        rows[i][3] = static_cast<float>(offset[i]);
+      for (int row = 0; row < 3; ++row) {
+        for (int j = 0; j < 3; ++j) rows[row][j] = static_cast<float>(r(row, j));
+        rows[row][3] = static_cast<float>(offset[row]);
       }
     }
     tables_.poses.write(0, poses_.data(), poses_.size() * sizeof(layout::BodyPose));
+    if (*kind != SurfaceKind::Flat) uploadSurfaceFrames(surface, *kind, queries);
 
     const auto [low, high] = bodyWindow(queries);
-    runHydrostaticsPasses(bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd);
-    if (Status s = finalSums(false, low, high); !s) return s;
+    runHydrostaticsPasses(bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd, *kind);
+    if (Status s = finalSums(false, low, high, tables_.partials, sums_); !s) return s;
+    if (*kind != SurfaceKind::Flat)
+      if (Status s = finalSums(false, low, high, tables_.headPartials, headSums_); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
+      const Body& body = bodies_[queries[i].body];
+      const HydrostaticsQuery& q = queries[i].query;
       const double* v = sums_[queries[i].body].value;
       const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10],
-                                  bodies_[queries[i].body].calibration.scale(queries[i].query.pose.rotation)};
-      results[i] = finishFlatHydrostatics(wetted, *flat, surface.density(), queries[i].query);
+                                  body.calibration.scale(q.pose.rotation)};
+      if (*kind == SurfaceKind::Flat) {
+        results[i] = finishFlatHydrostatics(wetted, origins_[i].y(), surface.density(), q);
+        continue;
+      }
+      const double* head = headSums_[queries[i].body].value;
+      const Eigen::Vector3d headForce(head[0], head[1], head[2]), headTorque(head[3], head[4], head[5]);
+      const double rhoG = surface.density() * q.gravity;
+      PressureSums pressure;
+      if (*kind == SurfaceKind::Medium) {
+        // p = rho0 g c (base + e), e the head the GPU summed (hydrostatics_surface.comp): the
+        // constant part's sums, base Sum A' and base Sum x' x A' (x' = R p here), in double from
+        // the body's moments, so that they cancel as on the CPU.
+        const auto& medium = static_cast<const UniformMedium&>(surface);
+        const double ty = q.pose.translation.y();
+        const bool constant = std::isinf(medium.scaleHeight());
+        const double c = constant ? 1.0 : std::exp(-(ty - medium.referenceHeight()) / medium.scaleHeight());
+        const double base = constant ? medium.referenceHeight() - ty : medium.scaleHeight();
+        const Eigen::Matrix3d& pa = body.calibration.sumPA;
+        const Eigen::Vector3d cross(pa(1, 2) - pa(2, 1), pa(2, 0) - pa(0, 2), pa(0, 1) - pa(1, 0));
+        pressure.force = -rhoG * c * (base * (q.pose.rotation * body.sumA) + headForce);
+        pressure.torque = -rhoG * c * (base * (q.pose.rotation * cross) + headTorque);
+      } else {
+        pressure.force = -rhoG * headForce;  // p = rho g D
+        pressure.torque = -rhoG * headTorque;
+      }
+      results[i] = finishPressureHydrostatics(wetted, pressure, origins_[i], surface.density(), q,
+                                              *kind != SurfaceKind::Medium);
     }
     return Ok{};
   }
@@ -417,7 +478,7 @@ class GlBackend final : public ComputeBackend {
     tables_.partials.bind(3);
     const auto [low, high] = std::minmax_element(ids.begin(), ids.end());
     runSegments(massStorage_, programs_.mass, true, bodies_[*low].massChunkBegin, bodies_[*high].massChunkEnd);
-    if (Status s = finalSums(true, *low, *high + 1); !s) return s;
+    if (Status s = finalSums(true, *low, *high + 1, tables_.partials, sums_); !s) return s;
 
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const Body& body = bodies_[ids[i]];
@@ -462,6 +523,9 @@ class GlBackend final : public ComputeBackend {
     Eigen::Vector3d shellFirst = Eigen::Vector3d::Zero();
     Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
     TexelVolumeCalibration calibration;
+    // Sum A (m^2, body frame, double): zero for a closed surface up to the texels' rounding, which
+    // a medium's absolute pressure multiplies (as on the CPU). Zero for a GPU-deformed body.
+    Eigen::Vector3d sumA = Eigen::Vector3d::Zero();
     std::uint64_t batch = 0;
     std::unique_ptr<Deformation> deformation;
     bool gpuDeformed = false;        // its texels on the GPU come from updateVertices, not the host
@@ -472,9 +536,15 @@ class GlBackend final : public ComputeBackend {
     GlBuffer chunkMoments;  // per hydro chunk
     GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per segment
     GlBuffer counters;      // per segment: SegmentCounters
+    GlBuffer headPartials;  // per hydro chunk: the pressure-head sums of hydrostatics_surface.comp
+    GlBuffer headResults;   // per body: their double sums
+    GlBuffer dryLevels;     // per body: the surface's highest point in its frame (non-flat surfaces)
+    GlBuffer surfaceData;   // binding 5 of hydrostatics_surface.comp (waves or grid samples), grown on demand
+    GlBuffer bodySurface;   // binding 7 of hydrostatics_surface.comp (per-body phases or grid frames), grown on demand
   };
   struct Programs {
     GlProgram classify, hydrostatics, mass, reduce, deformTriangles, deformTexels;
+    GlProgram gerstner, grid, medium;  // hydrostatics_surface.comp's variants
   };
 
   static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
@@ -495,6 +565,7 @@ class GlBackend final : public ComputeBackend {
     std::vector<layout::MassTexel> mass(body.texelCount);
     body.calibration = TexelVolumeCalibration::fromTextures(textures);
     body.totalVolume = body.shellArea = 0.0;
+    body.sumA.setZero();
     body.shellFirst.setZero();
     body.shellSecond.setZero();
     for (std::size_t i = 0; i < body.texelCount; ++i) {
@@ -516,6 +587,7 @@ class GlBackend final : public ComputeBackend {
       for (int k = 0; k < 6; ++k) block.covariance[k] += terms[k];
       block.absVolume += std::abs(volume);
       body.totalVolume += volume;
+      body.sumA += a.cast<double>();
       body.shellArea += area;
       body.shellFirst += area * d;
       body.shellSecond += area * (d * d.transpose() + covariance);
@@ -620,6 +692,7 @@ class GlBackend final : public ComputeBackend {
     }
     calibration.enclosedVolume = triple / 3.0;
     body.calibration = calibration;
+    body.sumA.setZero();
     body.calibrationPending = false;
   }
 
@@ -675,11 +748,122 @@ class GlBackend final : public ComputeBackend {
     return out;
   }
 
+  // The liquids the GPU passes know (hydrostatics_flat.comp, hydrostatics_surface.comp's
+  // variants); any other LiquidSurface has no shader form of its surfaceHeight or pressure.
+  enum class SurfaceKind { Flat, Gerstner, Grid, Medium };
+
+  static Expected<SurfaceKind> surfaceKind(const LiquidSurface& surface) {
+    if (!surface.hasFreeSurface()) {
+      if (dynamic_cast<const UniformMedium*>(&surface) != nullptr) return SurfaceKind::Medium;
+    } else if (surface.flatHeight()) {
+      return SurfaceKind::Flat;
+    } else if (dynamic_cast<const GerstnerWaves*>(&surface) != nullptr) {
+      return SurfaceKind::Gerstner;
+    } else if (dynamic_cast<const HeightGrid*>(&surface) != nullptr) {
+      return SurfaceKind::Grid;
+    }
+    return Error{"gpu backend: this liquid surface has no GPU form (flat planes, Gerstner waves, height grids and "
+                 "uniform media have); use the cpu backend for it"};
+  }
+
+  // Writes what hydrostatics_surface.comp and the classification need besides the poses: per
+  // asked body its dry level, and its wave phases or grid frame; the waves or grid samples. Every
+  // number that is large in world units (positions, times, phases) is reduced about the body's
+  // frame origin here, in double, so that the shader's float works with small ones.
+  void uploadSurfaceFrames(const LiquidSurface& surface, SurfaceKind kind, std::span<const BackendHydrostaticsQuery> queries) {
+    const double time = queries.empty() ? 0.0 : queries[0].query.time;
+    // Bodies not asked are lifted 1e30 m (kLifted): dry under any level below that. A medium
+    // wets all of an asked body.
+    dryLevels_.assign(bodies_.size(), 0.0f);
+    if (kind == SurfaceKind::Medium)
+      for (const BackendHydrostaticsQuery& q : queries) dryLevels_[q.body] = 3.0e38f;
+    std::vector<float>& data = surfaceScratch_;
+    std::vector<float>& perBody = bodyScratch_;
+    data.clear();
+    perBody.clear();
+    if (kind == SurfaceKind::Gerstner) {
+      const auto& waves = static_cast<const GerstnerWaves&>(surface);
+      const auto& components = waves.components();
+      const std::size_t stride = components.size() + 1;
+      perBody.assign(bodies_.size() * stride, 0.0f);
+      for (const GerstnerWaves::Component& c : components) {
+        const layout::GerstnerComponent packed{float(c.waveNumber), float(c.dirX), float(c.dirZ), float(c.amplitude),
+                                               float(c.steepness * c.amplitude)};
+        const auto* bytes = reinterpret_cast<const float*>(&packed);
+        data.insert(data.end(), bytes, bytes + sizeof(packed) / sizeof(float));
+      }
+      for (std::size_t i = 0; i < queries.size(); ++i) {
+        const Eigen::Vector3d& o = origins_[i];
+        const double highest = surface.heightRange(queries[i].query.time).second;
+        dryLevels_[queries[i].body] = float(highest - o.y());
+        float* out = perBody.data() + queries[i].body * stride;
+        out[0] = float(waves.meanLevel() - o.y());
+        for (std::size_t w = 0; w < components.size(); ++w) {
+          const GerstnerWaves::Component& c = components[w];
+          const double theta = c.waveNumber * (c.dirX * o.x() + c.dirZ * o.z()) - c.omega * queries[i].query.time + c.phase;
+          out[1 + w] = float(theta - kTwoPi * std::floor(theta / kTwoPi));
+        }
+      }
+    } else if (kind == SurfaceKind::Grid) {
+      const auto& grid = static_cast<const HeightGrid&>(surface);
+      const auto [lowest, highest] = grid.heightRange(time);
+      const double reference = 0.5 * (lowest + highest);
+      for (double h : grid.heights()) data.push_back(float(h - reference));
+      perBody.assign(bodies_.size() * sizeof(layout::GridFrame) / sizeof(float), 0.0f);
+      for (std::size_t i = 0; i < queries.size(); ++i) {
+        const Eigen::Vector3d& o = origins_[i];
+        dryLevels_[queries[i].body] = float(highest - o.y());
+        // o's grid coordinate as a whole cell and a part; a body beyond 2^30 cells is clamped to
+        // the edge by the shader whatever its part.
+        auto split = [&](double coordinate, int& cell, float& part) {
+          const double g = std::floor(coordinate);
+          const double limit = double(1 << 30);
+          cell = int(std::clamp(g, -limit, limit));
+          part = std::abs(g) < limit ? float(coordinate - g) : 0.0f;
+        };
+        layout::GridFrame frame{};
+        split((o.x() - grid.originX()) / grid.spacing(), frame.cellX, frame.fracX);
+        split((o.z() - grid.originZ()) / grid.spacing(), frame.cellZ, frame.fracZ);
+        frame.heightOffset = float(reference - o.y());
+        std::memcpy(perBody.data() + queries[i].body * sizeof(layout::GridFrame) / sizeof(float), &frame, sizeof(frame));
+      }
+    }
+    tables_.dryLevels.write(0, dryLevels_.data(), dryLevels_.size() * sizeof(float));
+    auto fill = [](GlBuffer& buffer, const std::vector<float>& values) {
+      const std::size_t bytes = std::max<std::size_t>(values.size(), 1) * sizeof(float);
+      if (buffer.bytes() < bytes) buffer = GlBuffer(bytes);
+      buffer.write(0, values.data(), values.size() * sizeof(float));
+    };
+    fill(tables_.surfaceData, data);
+    fill(tables_.bodySurface, perBody);
+    // The variant's uniforms.
+    if (kind == SurfaceKind::Gerstner) {
+      const auto& waves = static_cast<const GerstnerWaves&>(surface);
+      double horizontal = 0.0;
+      for (const GerstnerWaves::Component& c : waves.components()) horizontal += std::abs(c.steepness * c.amplitude);
+      glUseProgram(programs_.gerstner.id());
+      glUniform1ui(programs_.gerstner.uniform("waveCount"), GLuint(waves.components().size()));
+      glUniform1f(programs_.gerstner.uniform("horizontalSum"), float(horizontal));
+    } else if (kind == SurfaceKind::Grid) {
+      const auto& grid = static_cast<const HeightGrid&>(surface);
+      glUseProgram(programs_.grid.id());
+      glUniform1i(programs_.grid.uniform("countX"), grid.countX());
+      glUniform1i(programs_.grid.uniform("countZ"), grid.countZ());
+      glUniform1f(programs_.grid.uniform("inverseSpacing"), float(1.0 / grid.spacing()));
+    } else {
+      const auto& medium = static_cast<const UniformMedium&>(surface);
+      glUseProgram(programs_.medium.id());
+      glUniform1f(programs_.medium.uniform("inverseScaleHeight"),
+                  std::isinf(medium.scaleHeight()) ? 0.0f : float(1.0 / medium.scaleHeight()));
+    }
+  }
+
   // The hydrostatics passes over global chunks [first, last) (the asked bodies' window), per
   // segment: classification (zero, pre-summed moments, or onto the crossing list), then the texel
   // pass over the crossing list through an indirect dispatch, so that a step reads texels of
-  // waterline chunks only.
-  void runHydrostaticsPasses(std::uint32_t first, std::uint32_t last) {
+  // waterline chunks only (under a surface that is not flat: every chunk not wholly above it, through
+  // the surface kind's variant of hydrostatics_surface.comp).
+  void runHydrostaticsPasses(std::uint32_t first, std::uint32_t last, SurfaceKind kind) {
     for (layout::SegmentCounters& counter : counters_) counter = {0u, 1u, 1u, 0u};
     tables_.counters.write(0, counters_.data(), counters_.size() * sizeof(layout::SegmentCounters));
     tables_.hydroChunks.bind(1);
@@ -688,7 +872,10 @@ class GlBackend final : public ComputeBackend {
     tables_.chunkMoments.bind(5);
     tables_.crossing.bind(6);
     tables_.counters.bind(7);
+    tables_.dryLevels.bind(0);
+    tables_.headPartials.bind(4);
     glUseProgram(programs_.classify.id());
+    glUniform1i(programs_.classify.uniform("surfaceMode"), kind == SurfaceKind::Flat ? 0 : 1);
     const GLint base = programs_.classify.uniform("chunkBase"), count = programs_.classify.uniform("chunkCount");
     const GLint segmentUniform = programs_.classify.uniform("segmentIndex"), listUniform = programs_.classify.uniform("listBase");
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
@@ -702,9 +889,17 @@ class GlBackend final : public ComputeBackend {
       dispatchGroups((end - begin + kClassifyGroup - 1) / kClassifyGroup);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    glUseProgram(programs_.hydrostatics.id());
+    const GlProgram& texelPass = kind == SurfaceKind::Flat       ? programs_.hydrostatics
+                                 : kind == SurfaceKind::Gerstner ? programs_.gerstner
+                                 : kind == SurfaceKind::Grid     ? programs_.grid
+                                                                 : programs_.medium;
+    glUseProgram(texelPass.id());
+    if (kind != SurfaceKind::Flat) {
+      tables_.surfaceData.bind(5);
+      tables_.bodySurface.bind(7);
+    }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tables_.counters.id());
-    const GLint listBase = programs_.hydrostatics.uniform("listBase");
+    const GLint listBase = texelPass.uniform("listBase");
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
       const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
       if (std::max(first, segment.chunkBegin) >= std::min(last, segment.chunkEnd)) continue;
@@ -750,6 +945,7 @@ class GlBackend final : public ComputeBackend {
     const std::size_t bodies = bodies_.size();
     poses_.assign(bodies, layout::BodyPose{});
     sums_.assign(bodies, layout::BodySums{});
+    headSums_.assign(bodies, layout::BodySums{});
     hydroRanges_.resize(bodies);
     massRanges_.resize(bodies);
     for (std::size_t b = 0; b < bodies; ++b) {
@@ -777,6 +973,8 @@ class GlBackend final : public ComputeBackend {
       if (body.gpuDeformed) runDeformation(body);
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
     tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
+    tables_.headPartials = GlBuffer(hydroChunks_.size() * sizeof(layout::Partial));
+    tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
   }
@@ -810,13 +1008,14 @@ class GlBackend final : public ComputeBackend {
     return {low, high + 1};
   }
 
-  // Per-body double sums of the chunk partials of bodies [low, high) into sums_, on the GPU or
-  // the CPU.
-  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high) {
+  // Per-body double sums of the chunk partials in `partials` of bodies [low, high) into `out`, on
+  // the GPU or the CPU.
+  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high, const GlBuffer& partials,
+                   std::vector<layout::BodySums>& out) {
     const std::vector<layout::BodyRange>& ranges = massMode ? massRanges_ : hydroRanges_;
     if (finalOnGpu_) {
       glUseProgram(programs_.reduce.id());
-      tables_.partials.bind(0);
+      partials.bind(0);
       (massMode ? tables_.massRanges : tables_.hydroRanges).bind(1);
       tables_.blocks.bind(2);
       tables_.results.bind(3);
@@ -825,10 +1024,10 @@ class GlBackend final : public ComputeBackend {
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
       dispatchGroups(high - low);
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-      tables_.results.read(low * sizeof(layout::BodySums), sums_.data() + low, (high - low) * sizeof(layout::BodySums));
+      tables_.results.read(low * sizeof(layout::BodySums), out.data() + low, (high - low) * sizeof(layout::BodySums));
     } else {
       const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
-      tables_.partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
+      partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
       for (std::size_t b = low; b < high; ++b) {
         if (massMode && ranges[b].mode == 2) continue;
         double s[12] = {};
@@ -848,7 +1047,7 @@ class GlBackend final : public ComputeBackend {
           for (int k = 4; k < 10; ++k) s[k] += 0.6 * v[k] + meanDensity * block.covariance[k - 4];
           if (!(double(v[11]) >= s[10])) s[10] = v[11];
         }
-        std::copy(std::begin(s), std::end(s), sums_[b].value);
+        std::copy(std::begin(s), std::end(s), out[b].value);
       }
     }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
@@ -871,6 +1070,9 @@ class GlBackend final : public ComputeBackend {
   std::vector<layout::BodyRange> hydroRanges_, massRanges_;
   std::vector<layout::BodyPose> poses_;
   std::vector<layout::BodySums> sums_;
+  std::vector<layout::BodySums> headSums_;  // per body: the pressure-head sums (surfaces that are not flat)
+  std::vector<Eigen::Vector3d> origins_;     // per query of the current call: the frame origin o (m, world)
+  std::vector<float> dryLevels_, surfaceScratch_, bodyScratch_;
   std::vector<layout::Partial> partials_;
   Tables tables_;
   bool tablesDirty_ = true;

@@ -116,7 +116,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 11);
+  CHECK(shader.size() == 13);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -159,6 +159,15 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
                HYDROTEX_MEMBER(DeformTriangle, cu2), HYDROTEX_MEMBER(DeformTriangle, cv1),
                HYDROTEX_MEMBER(DeformTriangle, cv2)});
   checkLayout(shader, "TriangleFrame", sizeof(layout::TriangleFrame), {HYDROTEX_MEMBER(layout::TriangleFrame, value)});  // glDispatchComputeIndirect reads x, y, z at 16-byte strides
+  using layout::GerstnerComponent;
+  checkLayout(shader, "GerstnerComponent", sizeof(GerstnerComponent),
+              {HYDROTEX_MEMBER(GerstnerComponent, waveNumber), HYDROTEX_MEMBER(GerstnerComponent, dirX),
+               HYDROTEX_MEMBER(GerstnerComponent, dirZ), HYDROTEX_MEMBER(GerstnerComponent, amplitude),
+               HYDROTEX_MEMBER(GerstnerComponent, horizontal)});
+  using layout::GridFrame;
+  checkLayout(shader, "GridFrame", sizeof(GridFrame),
+              {HYDROTEX_MEMBER(GridFrame, cellX), HYDROTEX_MEMBER(GridFrame, cellZ), HYDROTEX_MEMBER(GridFrame, fracX),
+               HYDROTEX_MEMBER(GridFrame, fracZ), HYDROTEX_MEMBER(GridFrame, heightOffset)});
   using layout::BlockGeometry;
   checkLayout(shaderFp64, "BlockGeometry", sizeof(BlockGeometry),
               {HYDROTEX_MEMBER(BlockGeometry, covariance), HYDROTEX_MEMBER(BlockGeometry, absVolume),

@@ -112,4 +112,21 @@ struct TexelVolumeCalibration {
 HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& sums, double surfaceHeight, double density,
                                           const HydrostaticsQuery& query);
 
+/// The pressure sums of one body under a surface that is not a flat plane (waves, a height grid,
+/// a medium), in the world frame translated to the frame origin o: core's texture path integrates
+/// the pressure texel by texel there (TextureHydrostatics.cpp) instead of using Archimedes' force.
+struct PressureSums {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< -Sum p A (N), before the volume scale
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< -Sum x' x p A (N m) about o, before the volume scale
+};
+
+/// The HydrostaticsResult of a body from its wetted sums under waves, a height grid
+/// (`hasWaterplane` true; `sums.sumYB` then holds Sum (Q/2 - h' D) A_y, h' the local surface
+/// height above o_y) or a medium without a free surface (`hasWaterplane` false, o = the body's
+/// translation), exactly as TextureHydrostatics::query assembles them. `origin` is o (m, world),
+/// `density` the surface's nominal density (kg/m^3); `query` must be valid.
+HydrostaticsResult finishPressureHydrostatics(const FlatWettedSums& sums, const PressureSums& pressure,
+                                              const Eigen::Vector3d& origin, double density,
+                                              const HydrostaticsQuery& query, bool hasWaterplane);
+
 }  // namespace hydrotex

@@ -123,10 +123,20 @@ class GerstnerWaves final : public LiquidSurface {
   /// Mean level (m).
   double meanLevel() const { return meanLevel_; }
 
- private:
+  /// One wave as surfaceHeight() evaluates it (derived once from a GerstnerWave), so that another
+  /// evaluator (the GL backend's shader) uses the very same numbers.
   struct Component {
-    double amplitude, waveNumber, omega, phase, steepness, dirX, dirZ;
+    double amplitude;   ///< A (m)
+    double waveNumber;  ///< k = 2 pi / wavelength (1/m)
+    double omega;       ///< sqrt(g k) (rad/s)
+    double phase;       ///< rad
+    double steepness;   ///< Q (horizontal displacement Q A)
+    double dirX, dirZ;  ///< unit travel direction
   };
+  /// The components, in the order of waves().
+  const std::vector<Component>& components() const { return components_; }
+
+ private:
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
@@ -161,6 +171,12 @@ class HeightGrid final : public LiquidSurface {
   int countX() const { return countX_; }
   /// Samples along z.
   int countZ() const { return countZ_; }
+  /// Distance between samples (m).
+  double spacing() const { return spacing_; }
+  /// x of sample (0, 0) (m).
+  double originX() const { return originX_; }
+  /// z of sample (0, 0) (m).
+  double originZ() const { return originZ_; }
   /// Height samples (m), index j * countX + i; write them each step.
   std::vector<double>& heights() { return heights_; }
   /// Height samples (m).

@@ -1,10 +1,11 @@
 #pragma once
 /// @file GlBackend.hpp
 /// The OpenGL 4.3 compute backend (DESIGN.md "Backends"): the CPU's exact bake uploaded once per
-/// body, the per-step passes on the GPU. Flat-surface hydrostatics and texture mass properties,
-/// many bodies per dispatch, float per-texel work and per-workgroup float partials, then a final
-/// pass in double (on the GPU when GL_ARB_gpu_shader_fp64 is there, else on the CPU over the
-/// partials), results read back once per call.
+/// body, the per-step passes on the GPU. Hydrostatics under flat planes, Gerstner waves, height
+/// grids and uniform media (the texture path's sums, TextureHydrostatics.cpp) and texture mass
+/// properties, many bodies per dispatch, float per-texel work and per-workgroup float partials,
+/// then a final pass in double (on the GPU when GL_ARB_gpu_shader_fp64 is there, else on the CPU
+/// over the partials), results read back once per call.
 
 #include <memory>
 #include <vector>
@@ -31,8 +32,8 @@ struct GlBackendSettings {
 
 /// The GL backend on `context` (which it keeps and makes current on every call). Errors: shader
 /// compilation or linking (the message holds the driver's log), FinalSum::Gpu without fp64.
-/// Flat surfaces only: hydrostatics() on waves, grids or media answers an Error naming the CPU
-/// backend as the one to use.
+/// hydrostatics() knows FlatSurface (any surface with a flatHeight), GerstnerWaves, HeightGrid and
+/// UniformMedium; on any other LiquidSurface it answers an Error naming the CPU backend.
 Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglContext> context,
                                                         const GlBackendSettings& settings = {});
 

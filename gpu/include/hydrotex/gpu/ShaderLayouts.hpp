@@ -86,6 +86,22 @@ struct TriangleFrame {
   float value[20];  ///< see layouts.glsl
 };
 
+/// One Gerstner wave for the wavy-surface pass (GerstnerWaves::Component in float).
+struct GerstnerComponent {
+  float waveNumber;  ///< k (1/m)
+  float dirX, dirZ;  ///< unit travel direction
+  float amplitude;   ///< A (m)
+  float horizontal;  ///< Q A (m)
+};
+
+/// A body's place on a height grid: the cell of its frame origin o, o's offset in it, the samples'
+/// reference height above o_y.
+struct GridFrame {
+  std::int32_t cellX, cellZ;  ///< cell index of o along x and z
+  float fracX, fracZ;         ///< o's offset inside that cell (in spacings)
+  float heightOffset;         ///< reference of the uploaded samples minus o_y (m)
+};
+
 /// Geometry-only sums of one mass block: 3/5 v C (m^5) and sum |v| (m^3).
 struct BlockGeometry {
   double covariance[6];  ///< xx yy zz xy xz yz

@@ -1,0 +1,34 @@
+/// @file PressureWettedSums.cpp
+/// finishPressureHydrostatics: wetted sums accumulated elsewhere (a GPU) under waves, grids or a
+/// medium, finished by core's own assembly (HydrostaticSums.cpp) so that backends differ only in
+/// how the sums were added up.
+
+#include "HydrostaticSums.hpp"
+#include "hydrotex/ComputeBackend.hpp"
+
+namespace hydrotex {
+
+HydrostaticsResult finishPressureHydrostatics(const FlatWettedSums& in, const PressureSums& pressure,
+                                              const Eigen::Vector3d& origin, double density,
+                                              const HydrostaticsQuery& query, bool hasWaterplane) {
+  detail::WettedSums sums;
+  sums.sumDA[1] = in.sumDAy;
+  sums.sumDXAy = in.sumDXAy;
+  sums.sumDZAy = in.sumDZAy;
+  sums.sumYB = in.sumYB;
+  sums.sumAy = in.sumAy;
+  sums.sumXAy = in.sumXAy;
+  sums.sumZAy = in.sumZAy;
+  sums.sumXXAy = in.sumXXAy;
+  sums.sumXZAy = in.sumXZAy;
+  sums.sumZZAy = in.sumZZAy;
+  sums.wettedArea = in.wettedArea;
+  sums.volumeScale = in.volumeScale;
+  for (int k = 0; k < 3; ++k) {
+    sums.pressureForce[k] = pressure.force[k];
+    sums.pressureTorque[k] = pressure.torque[k];
+  }
+  return detail::finishHydrostatics(sums, origin, density, query, detail::ForceModel::PressureSums, hasWaterplane);
+}
+
+}  // namespace hydrotex

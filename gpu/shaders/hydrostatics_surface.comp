@@ -1,0 +1,197 @@
+// Hydrostatics under a surface that is not a flat plane, the GPU form of the waves-and-grids and
+// medium paths of core's TextureHydrostatics::query (core/src/TextureHydrostatics.cpp): over the
+// chunks hydrostatics_classify.comp listed (those not wholly above the surface's highest point),
+// one workgroup per chunk of up to 256 texels of one body (4 per invocation). Each texel is the
+// patch p + s eU + t eV under a locally level surface at the height h' the surface has above the
+// texel's centre (the CPU's approximation: the slope over one texel is neglected), weighted by
+// waterlineFractions; the pressure is integrated texel by texel. Frame: x' = R p + (0, t_y - o_y,
+// 0), o = (t_x, h(centre of mass), t_z) for waves and grids, o = t for a medium. Compiled once per
+// surface kind, one of:
+//   SURFACE_GERSTNER  h' from GerstnerWaves::surfaceHeight's search (Newton, fixed-point steps
+//                     where the Jacobian is nearly singular), in float about o
+//   SURFACE_GRID      h' bilinear in HeightGrid's samples, clamped at the edges as HeightGrid does
+//   SURFACE_MEDIUM    no free surface: every texel wholly submerged (D = -y', Q = y'^2)
+// Two float Partials per chunk: `partials` the 11 FlatWettedSums (sumYB as Sum (Q/2 - h' D) A_y),
+// `headPartials` Sum e A' (0..2) and Sum e x' x A' (3..5), e the pressure head: the mean depth D
+// under a free surface (pressure rho g D), H expm1(-y'/H) (or -y') in a medium, whose pressure is
+// rho0 g exp(-(t_y - y0)/H) (H + e) (the host adds the constant part exactly: GlBackend.cpp).
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Texels { HydroTexel texels[]; };
+layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
+layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
+layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
+layout(std430, binding = 4) writeonly buffer HeadPartials { Partial headPartials[]; };
+layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
+
+uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
+
+#if defined(SURFACE_GERSTNER)
+layout(std430, binding = 5) readonly buffer Waves { GerstnerComponent waves[]; };
+// Per body, waveCount + 1 floats: mean level - o_y (m), then each wave's phase at o and this
+// time, k d . o - omega t + phase, reduced to [0, 2 pi) in double on the host.
+layout(std430, binding = 7) readonly buffer BodyWaves { float bodyWaves[]; };
+uniform uint waveCount;
+uniform float horizontalSum;  // sum Q A (m): scale of the search's rounding
+#elif defined(SURFACE_GRID)
+layout(std430, binding = 5) readonly buffer Heights { float gridHeights[]; };  // sample - reference (m)
+layout(std430, binding = 7) readonly buffer Frames { GridFrame frames[]; };    // per body
+uniform int countX;
+uniform int countZ;
+uniform float inverseSpacing;  // 1/m
+#elif defined(SURFACE_MEDIUM)
+uniform float inverseScaleHeight;  // 1/H (1/m); 0: constant density
+#endif
+
+const uint kGroup = 64u;
+const uint kTexelsPerInvocation = 4u;
+const int kSums = 11;
+const int kHeads = 6;
+
+shared float reduction[kSums + kHeads][kGroup];
+
+#if defined(SURFACE_GERSTNER)
+// GerstnerWaves::surfaceHeight about o: the rest point x0 with x0 + H(x0) = x, then the height of
+// its displaced point. Same iteration, same switch to fixed-point steps (determinant <= 0.1), same
+// 24 iterations at most; the stopping step is float's (8 ulps of the coordinates) instead of
+// 1e-9 m, a height error of at most sum(k A) times that.
+float surfaceHeightAt(float x, float z, uint body) {
+  uint base = body * (waveCount + 1u);
+  float tolerance = 1.0e-6 * (abs(x) + abs(z) + horizontalSum) + 1.0e-12;
+  float x0 = x, z0 = z, height = 0.0;
+  for (int iteration = 0; iteration < 24; ++iteration) {
+    float hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
+    height = 0.0;
+    for (uint w = 0u; w < waveCount; ++w) {
+      GerstnerComponent c = waves[w];
+      float theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) + bodyWaves[base + 1u + w];
+      float sine = sin(theta), cosine = cos(theta);
+      hx -= c.horizontal * sine * c.dirX;
+      hz -= c.horizontal * sine * c.dirZ;
+      height += c.amplitude * cosine;
+      float slope = c.horizontal * c.waveNumber * cosine;
+      jxx -= slope * c.dirX * c.dirX;
+      jxz -= slope * c.dirX * c.dirZ;
+      jzz -= slope * c.dirZ * c.dirZ;
+    }
+    float rx = x0 + hx - x, rz = z0 + hz - z;
+    float determinant = jxx * jzz - jxz * jxz;
+    float stepX = rx, stepZ = rz;
+    if (determinant > 0.1) {
+      stepX = (jzz * rx - jxz * rz) / determinant;
+      stepZ = (jxx * rz - jxz * rx) / determinant;
+    }
+    if (abs(stepX) + abs(stepZ) < tolerance) break;
+    x0 -= stepX;
+    z0 -= stepZ;
+  }
+  return bodyWaves[base] + height;
+}
+#elif defined(SURFACE_GRID)
+// HeightGrid::surfaceHeight about o: the grid coordinate (x - originX) / spacing split into the
+// body's cell (exact integer) and a small float part, clamped to [0, count - 1] as HeightGrid
+// clamps it.
+float surfaceHeightAt(float x, float z, uint body) {
+  GridFrame frame = frames[body];
+  float gx = x * inverseSpacing + frame.fracX, gz = z * inverseSpacing + frame.fracZ;
+  float cellX = floor(gx), cellZ = floor(gz);
+  int ix = int(cellX) + frame.cellX, iz = int(cellZ) + frame.cellZ;
+  float fx = gx - cellX, fz = gz - cellZ;
+  if (ix < 0) { ix = 0; fx = 0.0; }
+  else if (ix >= countX - 1) { ix = countX - 2; fx = 1.0; }
+  if (iz < 0) { iz = 0; fz = 0.0; }
+  else if (iz >= countZ - 1) { iz = countZ - 2; fz = 1.0; }
+  int i00 = iz * countX + ix;
+  float h00 = gridHeights[i00], h10 = gridHeights[i00 + 1];
+  float h01 = gridHeights[i00 + countX], h11 = gridHeights[i00 + countX + 1];
+  return frame.heightOffset + ((1.0 - fz) * ((1.0 - fx) * h00 + fx * h10) + fz * ((1.0 - fx) * h01 + fx * h11));
+}
+#endif
+
+#if defined(SURFACE_MEDIUM)
+// H expm1(-y/H): the medium's pressure head about o relative to o's own (series where exp(x) - 1
+// would cancel in float; its first left-out term is below float rounding for |x| < 1e-2).
+float mediumHead(float y) {
+  if (inverseScaleHeight == 0.0) return -y;
+  float x = -y * inverseScaleHeight;
+  float expm1 = abs(x) < 1.0e-2 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0)))) : exp(x) - 1.0;
+  return expm1 / inverseScaleHeight;
+}
+#endif
+
+void main() {
+  uint chunkIndex = crossing[listBase + gl_WorkGroupID.x];
+  Chunk chunk = chunks[chunkIndex];
+  BodyPose pose = poses[chunk.body];
+  vec3 row0 = pose.row0.xyz, row1 = pose.row1.xyz, row2 = pose.row2.xyz;
+
+  float sums[kSums];
+  float heads[kHeads];
+  for (int k = 0; k < kSums; ++k) sums[k] = 0.0;
+  for (int k = 0; k < kHeads; ++k) heads[k] = 0.0;
+  for (uint n = 0u; n < kTexelsPerInvocation; ++n) {
+    uint i = gl_LocalInvocationID.x + n * kGroup;
+    if (i >= chunk.count) break;
+    HydroTexel t = texels[chunk.begin + i];
+    vec3 p = vec3(t.px, t.py, t.pz), area = vec3(t.ax, t.ay, t.az);
+    float x = dot(row0, p) + pose.row0.w;
+    float y = dot(row1, p) + pose.row1.w;
+    float z = dot(row2, p) + pose.row2.w;
+    vec3 a = vec3(dot(row0, area), dot(row1, area), dot(row2, area));
+#if defined(SURFACE_MEDIUM)
+    float localHeight = 0.0;
+    vec3 f = vec3(1.0, -y, y * y);
+    float head = mediumHead(y);
+#else
+    float ea = dot(row1, vec3(t.ux, t.uy, t.uz));
+    float eb = dot(row1, vec3(t.vx, t.vy, t.vz));
+    float localHeight = surfaceHeightAt(x, z, chunk.body);
+    float depth = localHeight - y;
+    if (!(depth > -0.5 * (abs(ea) + abs(eb)))) continue;  // dry (or a NaN height)
+    vec3 f = waterlineFractions(depth, ea, eb);
+    float head = f.y;
+#endif
+    float da = f.y * a.y;
+    float fay = f.x * a.y;
+    sums[0] += da;
+    sums[1] += da * x;
+    sums[2] += da * z;
+    sums[3] += (0.5 * f.z - localHeight * f.y) * a.y;
+    sums[4] += fay;
+    sums[5] += fay * x;
+    sums[6] += fay * z;
+    sums[7] += fay * x * x;
+    sums[8] += fay * x * z;
+    sums[9] += fay * z * z;
+    sums[10] += f.x * t.area;
+    heads[0] += head * a.x;
+    heads[1] += head * a.y;
+    heads[2] += head * a.z;
+    heads[3] += head * (y * a.z - z * a.y);
+    heads[4] += head * (z * a.x - x * a.z);
+    heads[5] += head * (x * a.y - y * a.x);
+  }
+
+  uint lane = gl_LocalInvocationID.x;
+  for (int k = 0; k < kSums; ++k) reduction[k][lane] = sums[k];
+  for (int k = 0; k < kHeads; ++k) reduction[kSums + k][lane] = heads[k];
+  barrier();
+  // Two levels, as hydrostatics_flat.comp (llvmpipe's barrier cost).
+  if (lane < 8u)
+    for (int k = 0; k < kSums + kHeads; ++k) {
+      float sum = 0.0;
+      for (uint j = 0u; j < 8u; ++j) sum += reduction[k][lane + 8u * j];
+      reduction[k][lane] = sum;
+    }
+  barrier();
+  if (lane == 0u) {
+    float total[kSums + kHeads];
+    for (int k = 0; k < kSums + kHeads; ++k) {
+      total[k] = 0.0;
+      for (uint j = 0u; j < 8u; ++j) total[k] += reduction[k][j];
+    }
+    for (int k = 0; k < kSums; ++k) partials[chunkIndex].value[k] = total[k];
+    partials[chunkIndex].value[11] = 0.0;
+    for (int k = 0; k < 12; ++k) headPartials[chunkIndex].value[k] = k < kHeads ? total[kSums + k] : 0.0;
+  }
+}
