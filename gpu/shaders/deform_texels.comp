@@ -9,9 +9,7 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) writeonly buffer Texels { HydroTexel texels[]; };
 layout(std430, binding = 1) buffer Chunks { Chunk chunks[]; };
-layout(std430, binding = 2) readonly buffer Frames { TriangleFrame frames[]; };
-layout(std430, binding = 3) readonly buffer PieceStart { uint pieceStart[]; };  // per body texel + 1
-layout(std430, binding = 4) readonly buffer Pieces { DeformPiece pieces[]; };
+// Bindings 2 (frames), 3 (piece starts), 4 (pieces): deform_texel.glsl.
 layout(std430, binding = 5) writeonly buffer Moments { ChunkMoments moments[]; };
 layout(std430, binding = 6) readonly buffer ChunkFirst { uint chunkFirst[]; };  // per body chunk: first texel
 layout(std430, binding = 7) writeonly buffer Calibration { Partial calibration[]; };  // per body chunk
@@ -19,8 +17,6 @@ layout(std430, binding = 7) writeonly buffer Calibration { Partial calibration[]
 uniform uint bodyChunkBegin;  // global index of the body's first chunk
 uniform uint chunkBase;       // body-local index of this dispatch's first chunk
 uniform uint chunkCount;      // chunks in this dispatch
-uniform uint triangleCount;
-uniform uint pieceCount;
 
 const uint kGroup = 64u;
 const uint kPerInvocation = 4u;
@@ -61,34 +57,9 @@ void main() {
     uint i = lane + n * kGroup;
     if (i >= chunk.count) continue;
     uint texel = chunkFirst[bodyChunk] + i;
-    uint begin = pieceStart[texel], end = min(pieceStart[texel + 1u], pieceCount);
-    vec3 a = vec3(0.0), weighted = vec3(0.0), eu = vec3(0.0), ev = vec3(0.0);
-    float area = 0.0, flux = 0.0;
-    vec3 p = vec3(0.0);
-    bool single = end == begin + 1u && pieces[begin].triangle < triangleCount;
-    for (uint k = begin; k < end; ++k) {
-      DeformPiece piece = pieces[k];
-      if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
-      float f[20] = frames[piece.triangle].value;
-      vec3 p0 = vec3(f[0], f[1], f[2]), e1 = vec3(f[3], f[4], f[5]), e2 = vec3(f[6], f[7], f[8]);
-      vec3 pieceCentroid = p0 + piece.centroidBary1 * e1 + piece.centroidBary2 * e2;
-      vec3 pieceAreaVector = piece.areaFraction * vec3(f[9], f[10], f[11]);
-      float pieceArea = piece.areaFraction * f[12];
-      a += pieceAreaVector;
-      weighted += pieceArea * pieceCentroid;
-      flux += dot(pieceCentroid, pieceAreaVector);
-      eu += piece.uvShare * vec3(f[13], f[14], f[15]);
-      ev += piece.uvShare * vec3(f[16], f[17], f[18]);
-      area += pieceArea;
-      if (single) p = area > 0.0 ? pieceCentroid : vec3(0.0);
-    }
-    if (!single) {
-      p = area > 0.0 ? weighted / area : vec3(0.0);
-      // The shift along A that makes p . A the exact flux, left out where the pieces nearly cancel
-      // (SurfaceEvaluator, evaluateSurface).
-      float squared = dot(a, a);
-      if (squared > 1e-2 * area * area && squared > 0.0) p += a * ((flux - dot(p, a)) / squared);
-    }
+    vec3 p, a, eu, ev;
+    float area;
+    evaluateTexel(texel, p, a, area, eu, ev);
     texels[chunk.begin + i] = HydroTexel(p.x, p.y, p.z, a.x, a.y, a.z, area, eu.x, eu.y, eu.z, ev.x, ev.y, ev.z);
     pos[n] = p;
     area3[n] = a;

@@ -130,3 +130,12 @@ struct GridFrame {
   float fracZ;
   float heightOffset;
 };
+
+// A GPU-deformed body's geometry sums over one 256-texel mass block (deform_mass.comp), in float:
+// 0..5 the cone covariance terms 3/5 v C (xx yy zz xy xz yz, m^5), 6 sum |v| (m^3), 7 sum v
+// (m^3), 8 sum |A| (m^2), 9..11 sum |A| d (m^3), 12..17 sum |A| (d d^T + C) (xx yy zz xy xz yz,
+// m^4), 18..19 unused; d = p - c, v = d . A / 3, C the texel's patch covariance. The host turns
+// them into BlockGeometry and the body's shell sums, as it does from host textures.
+struct MassBlock {
+  float value[20];
+};

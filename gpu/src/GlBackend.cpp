@@ -120,7 +120,9 @@ class GlBackend final : public ComputeBackend {
     const std::string_view layouts = embeddedShader("layouts.glsl");
     const std::string_view waterline = embeddedShader("waterline.glsl");
     // `define` selects a variant of one shader file (hydrostatics_surface.comp's surface kinds).
-    auto build = [&](const char* name, bool needsFp64, GlProgram& out, std::string_view define = {}) -> Status {
+    // `include` is a shared file some shaders need (deform_texel.glsl).
+    auto build = [&](const char* name, bool needsFp64, GlProgram& out, std::string_view define = {},
+                     std::string_view include = {}) -> Status {
       const std::string_view body = embeddedShader(name);
       if (body.empty() || layouts.empty() || waterline.empty())
         return Error{std::string("gpu backend: shader ") + name + " is not embedded"};
@@ -130,6 +132,7 @@ class GlBackend final : public ComputeBackend {
       parts.push_back(layouts);
       if (needsFp64) parts.push_back(embeddedShader("layouts_fp64.glsl"));
       parts.push_back(waterline);
+      if (!include.empty()) parts.push_back(include);
       parts.push_back(body);
       Expected<GlProgram> program = GlProgram::compute(name, parts);
       if (!program) return Error{"gpu backend: " + program.error().message};
@@ -143,7 +146,10 @@ class GlBackend final : public ComputeBackend {
     if (Status s = build("hydrostatics_surface.comp", false, programs_.medium, "#define SURFACE_MEDIUM\n"); !s) return s;
     if (Status s = build("mass_moments.comp", false, programs_.mass); !s) return s;
     if (Status s = build("deform_triangles.comp", false, programs_.deformTriangles); !s) return s;
-    if (Status s = build("deform_texels.comp", false, programs_.deformTexels); !s) return s;
+    const std::string_view deformTexel = embeddedShader("deform_texel.glsl");
+    if (deformTexel.empty()) return Error{"gpu backend: shader deform_texel.glsl is not embedded"};
+    if (Status s = build("deform_texels.comp", false, programs_.deformTexels, {}, deformTexel); !s) return s;
+    if (Status s = build("deform_mass.comp", false, programs_.deformMass, {}, deformTexel); !s) return s;
     if (finalOnGpu_)
       if (Status s = build("reduce_partials.comp", true, programs_.reduce); !s) return s;
     return Ok{};
@@ -199,6 +205,7 @@ class GlBackend final : public ComputeBackend {
     if (Status s = context_->makeCurrent(); !s) return s;
     uploadSurface(bodies_[id], textures);
     bodies_[id].gpuDeformed = false;  // the host's textures are the body's again
+    bodies_[id].calibrationPending = bodies_[id].massPending = false;
     tablesDirty_ = true;
     return Ok{};
   }
@@ -269,6 +276,7 @@ class GlBackend final : public ComputeBackend {
     deform->chunkFirst = upload(chunkFirst);
     deform->frames = GlBuffer(triangleCount * sizeof(layout::TriangleFrame));
     deform->calibration = GlBuffer(runs.size() * sizeof(layout::Partial));
+    deform->massBlocks = GlBuffer((body.massChunkEnd - body.massChunkBegin) * sizeof(layout::MassBlock));
     deform->vertices = GlBuffer(mesh.positions.size() * 3 * sizeof(float));
     deform->triangleCount = std::uint32_t(triangleCount);
     deform->vertexCount = std::uint32_t(mesh.positions.size());
@@ -295,6 +303,7 @@ class GlBackend final : public ComputeBackend {
     body.deformation->vertices.write(0, packed.data(), packed.size() * sizeof(float));
     body.gpuDeformed = true;
     body.calibrationPending = true;
+    body.massPending = true;
     if (!tablesDirty_) runDeformation(body);  // else ensureTables runs it on the fresh tables
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
       return Error{"gpu deformation: OpenGL error " + std::to_string(error)};
@@ -446,9 +455,6 @@ class GlBackend final : public ComputeBackend {
       if (bodies_[ids[i]].batch == batch_) return Error{"gpu backend: body " + std::to_string(ids[i]) + " asked twice in one batch"};
       bodies_[ids[i]].batch = batch_;
       const TextureMassModel& model = models[i];
-      if (bodies_[ids[i]].gpuDeformed)
-        return Error{"gpu backend: body " + std::to_string(ids[i]) +
-                     " was deformed on the GPU; its mass texels are not re-evaluated there yet (use updateSurface)"};
       if (!model.texelDensity.empty() && model.texelDensity.size() != bodies_[ids[i]].texelCount)
         return Error{"density map has " + std::to_string(model.texelDensity.size()) + " texels, the bake has " +
                      std::to_string(bodies_[ids[i]].texelCount)};
@@ -460,6 +466,8 @@ class GlBackend final : public ComputeBackend {
     if (ids.empty()) return Ok{};
     if (Status s = context_->makeCurrent(); !s) return s;
     ensureTables();
+    for (BackendBodyId id : ids)
+      if (bodies_[id].massPending) readMassBlocks(bodies_[id]);
 
     for (layout::BodyRange& range : massRanges_) range.mode = 2;
     for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -512,6 +520,7 @@ class GlBackend final : public ComputeBackend {
   // A body's GPU re-evaluation data (enableGpuDeformation): uploaded once, but the vertices.
   struct Deformation {
     GlBuffer vertices, triangles, frames, pieceStart, pieces, chunkFirst, calibration;
+    GlBuffer massBlocks;  // per mass block: MassBlock (deform_mass.comp)
     std::uint32_t triangleCount = 0, vertexCount = 0, pieceCount = 0;
   };
   struct Body {
@@ -530,6 +539,7 @@ class GlBackend final : public ComputeBackend {
     std::unique_ptr<Deformation> deformation;
     bool gpuDeformed = false;        // its texels on the GPU come from updateVertices, not the host
     bool calibrationPending = false; // its calibration sums wait on the GPU
+    bool massPending = false;        // its mass block sums wait on the GPU
   };
   struct Tables {
     GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
@@ -545,6 +555,7 @@ class GlBackend final : public ComputeBackend {
   struct Programs {
     GlProgram classify, hydrostatics, mass, reduce, deformTriangles, deformTexels;
     GlProgram gerstner, grid, medium;  // hydrostatics_surface.comp's variants
+    GlProgram deformMass;
   };
 
   static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
@@ -676,7 +687,57 @@ class GlBackend final : public ComputeBackend {
       dispatchGroups(end - c);
       c = end;
     }
+    // The mass texels and block sums from the same frames (deform_mass.comp), one dispatch per
+    // mass segment the body's blocks lie in.
+    const GlProgram& mass = programs_.deformMass;
+    glUseProgram(mass.id());
+    tables_.massChunks.bind(1);
+    d.massBlocks.bind(5);
+    glUniform1ui(mass.uniform("bodyChunkBegin"), body.massChunkBegin);
+    glUniform1ui(mass.uniform("triangleCount"), d.triangleCount);
+    glUniform1ui(mass.uniform("pieceCount"), d.pieceCount);
+    glUniform3f(mass.uniform("referencePoint"), float(body.referencePoint.x()), float(body.referencePoint.y()),
+                float(body.referencePoint.z()));
+    c = body.massChunkBegin;
+    while (c < body.massChunkEnd) {
+      std::uint32_t end = c + 1;
+      while (end < body.massChunkEnd && massStorage_.chunkSegment[end] == massStorage_.chunkSegment[c]) ++end;
+      massStorage_.segments[massStorage_.chunkSegment[c]].texels.bind(0);
+      glUniform1ui(mass.uniform("chunkBase"), c - body.massChunkBegin);
+      glUniform1ui(mass.uniform("chunkCount"), end - c);
+      dispatchGroups(end - c);
+      c = end;
+    }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+
+  // A GPU-deformed body's block geometry and shell sums from its GPU mass blocks (float per
+  // 256-texel block, double over blocks; 80 bytes per block are read, never the texels), into the
+  // host's tables as uploadSurface would have made them from host textures.
+  void readMassBlocks(Body& body) {
+    std::vector<layout::MassBlock> sums(body.massChunkEnd - body.massChunkBegin);
+    body.deformation->massBlocks.read(0, sums.data(), sums.size() * sizeof(layout::MassBlock));
+    body.totalVolume = body.shellArea = 0.0;
+    body.shellFirst.setZero();
+    body.shellSecond.setZero();
+    static constexpr int kPair[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};  // MassBlock's order
+    for (std::size_t b = 0; b < sums.size(); ++b) {
+      const float* v = sums[b].value;
+      layout::BlockGeometry& block = blocks_[body.massChunkBegin + b];
+      block = layout::BlockGeometry{};
+      for (int k = 0; k < 6; ++k) block.covariance[k] = v[k];
+      block.absVolume = v[6];
+      body.totalVolume += v[7];
+      body.shellArea += v[8];
+      for (int k = 0; k < 3; ++k) body.shellFirst[k] += v[9 + k];
+      for (int k = 0; k < 6; ++k) {
+        body.shellSecond(kPair[k][0], kPair[k][1]) += v[12 + k];
+        if (kPair[k][0] != kPair[k][1]) body.shellSecond(kPair[k][1], kPair[k][0]) += v[12 + k];
+      }
+    }
+    tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.massChunkBegin,
+                         sums.size() * sizeof(layout::BlockGeometry));
+    body.massPending = false;
   }
 
   // The body's volume calibration from its GPU partials (float per chunk, double over chunks).

@@ -116,7 +116,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 13);
+  CHECK(shader.size() == 14);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -168,6 +168,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   checkLayout(shader, "GridFrame", sizeof(GridFrame),
               {HYDROTEX_MEMBER(GridFrame, cellX), HYDROTEX_MEMBER(GridFrame, cellZ), HYDROTEX_MEMBER(GridFrame, fracX),
                HYDROTEX_MEMBER(GridFrame, fracZ), HYDROTEX_MEMBER(GridFrame, heightOffset)});
+  checkLayout(shader, "MassBlock", sizeof(layout::MassBlock), {HYDROTEX_MEMBER(layout::MassBlock, value)});
   using layout::BlockGeometry;
   checkLayout(shaderFp64, "BlockGeometry", sizeof(BlockGeometry),
               {HYDROTEX_MEMBER(BlockGeometry, covariance), HYDROTEX_MEMBER(BlockGeometry, absVolume),

@@ -62,10 +62,10 @@ Status enableGpuDeformation(ComputeBackend& backend, BackendBodyId body, const S
 
 /// Uploads `positions` (m, body frame; the mesh's vertices, same topology) and re-evaluates the
 /// body's PT, VAT, area and edges (SurfaceEvaluator's formulas, float), its chunk bounds and
-/// pre-summed moments and its volume calibration on the GPU; the next hydrostatics call uses them.
-/// Mass properties of such a body answer an Error until updateSurface gives host textures again
-/// (the mass texels are not re-evaluated on the GPU yet). Errors: no enableGpuDeformation, a
-/// vertex count that differs, a non-finite vertex.
+/// pre-summed moments and its volume calibration on the GPU, and its mass texels and per-block
+/// geometry sums (deform_mass.comp); the next hydrostatics and massProperties calls use them (the
+/// texel fields are never read back: only 48 bytes per hydrostatics chunk and 80 per 256-texel
+/// mass block). Errors: no enableGpuDeformation, a vertex count that differs, a non-finite vertex.
 Status updateVerticesOnGpu(ComputeBackend& backend, BackendBodyId body, const std::vector<Eigen::Vector3d>& positions);
 
 /// Reads a body's texels as the GL backend holds them (bake order): for tests of the GPU

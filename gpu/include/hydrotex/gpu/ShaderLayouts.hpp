@@ -102,6 +102,11 @@ struct GridFrame {
   float heightOffset;         ///< reference of the uploaded samples minus o_y (m)
 };
 
+/// A GPU-deformed body's float geometry sums over one 256-texel mass block (deform_mass.comp).
+struct MassBlock {
+  float value[20];  ///< see layouts.glsl
+};
+
 /// Geometry-only sums of one mass block: 3/5 v C (m^5) and sum |v| (m^3).
 struct BlockGeometry {
   double covariance[6];  ///< xx yy zz xy xz yz
