@@ -11,11 +11,13 @@
 // with the same covariance. Central inertia: I = trace(S) Id - S, S the central second moment.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "hydrotex/MassProperties.hpp"
+#include "Vector3Lanes.hpp"
 
 namespace hydrotex {
 namespace {
@@ -24,9 +26,6 @@ namespace {
 // rounding near 1e-7), in double across blocks.
 constexpr std::size_t kBlock = 256;
 constexpr std::size_t kLanes = 8;
-// Texels per SIMD chunk in TextureMassIntegrator::update (divides kBlock).
-constexpr std::size_t kChunk = 8;
-using Chunk = Eigen::Array<float, int(kChunk), 1>;
 
 // Float lanes of one block's sums: independent accumulators the compiler turns into SIMD
 // registers without reassociating anything.
@@ -37,17 +36,16 @@ struct BlockSums {
   float lowest[kLanes] = {};
 };
 
-// One block of kBlock texels: cone mass w = rho v, w d, w d d^T, and (density maps only) the
+// One block of kBlock texels of a density map: cone mass w = rho v, w d, w d d^T, the
 // density-weighted |v| and the lowest density (to report negative or NaN densities).
-template <bool Mapped>
 void accumulateBlock(const float* __restrict dx, const float* __restrict dy, const float* __restrict dz,
-                     const float* __restrict vol, const float* __restrict density, float uniform, BlockSums& out) {
+                     const float* __restrict vol, const float* __restrict density, BlockSums& out) {
   BlockSums s;
-  for (std::size_t l = 0; l < kLanes; ++l) s.lowest[l] = Mapped ? std::numeric_limits<float>::max() : uniform;
+  for (std::size_t l = 0; l < kLanes; ++l) s.lowest[l] = std::numeric_limits<float>::max();
   for (std::size_t i = 0; i < kBlock; i += kLanes) {
     for (std::size_t l = 0; l < kLanes; ++l) {
       const std::size_t k = i + l;
-      const float rho = Mapped ? density[k] : uniform;
+      const float rho = density[k];
       const float w = rho * vol[k];
       const float x = dx[k], y = dy[k], z = dz[k];
       const float wx = w * x, wy = w * y, wz = w * z;
@@ -61,13 +59,98 @@ void accumulateBlock(const float* __restrict dx, const float* __restrict dy, con
       s.sxy[l] += wx * y;
       s.sxz[l] += wx * z;
       s.syz[l] += wy * z;
-      if constexpr (Mapped) {
-        s.weightedAbs[l] += rho * std::fabs(vol[k]);
-        s.lowest[l] = rho < s.lowest[l] ? rho : s.lowest[l];
-      }
+      s.weightedAbs[l] += rho * std::fabs(vol[k]);
+      s.lowest[l] = rho < s.lowest[l] ? rho : s.lowest[l];
     }
   }
   out = s;
+}
+
+// The symmetric matrix of six sums xx yy zz xy xz yz.
+Eigen::Matrix3d symmetric(const double* s) {
+  Eigen::Matrix3d m;
+  m << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
+  return m;
+}
+
+// sums[m] += terms[m] for every m.
+template <std::size_t N>
+void addTo(double (&sums)[N], const double* terms) {
+  for (std::size_t m = 0; m < N; ++m) sums[m] += terms[m];
+}
+
+// One block of TextureMassIntegrator::update as structure-of-arrays (in L1 cache), filled from
+// the packed textures, and the per-texel patch covariances computed from it.
+struct BlockScratch {
+  alignas(64) float ax[kBlock], ay[kBlock], az[kBlock];   // area vector
+  alignas(64) float ux[kBlock], uy[kBlock], uz[kBlock];   // texel edge along u
+  alignas(64) float vx[kBlock], vy[kBlock], vz[kBlock];   // texel edge along v
+  alignas(64) float area[kBlock];
+  alignas(64) float spanned[kBlock];                      // |eu x ev|
+  alignas(64) float covariance[6][kBlock];                // C: xx yy zz xy xz yz
+};
+
+// Cone volumes v = (p - c) . A / 3 of one block.
+void coneVolumes(const float* __restrict x, const float* __restrict y, const float* __restrict z,
+                 const BlockScratch& s, float* __restrict v) {
+  for (std::size_t k = 0; k < kBlock; ++k) v[k] = (x[k] * s.ax[k] + y[k] * s.ay[k] + z[k] * s.az[k]) * (1.0f / 3.0f);
+}
+
+// Covariance of each texel's patch about its position, (eu eu^T + ev ev^T) / 12 for a whole flat
+// parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered texel (at
+// most 1; 0 where the edges span nothing). Plain loops over one block: vectorised, branch-free.
+void patchCovariances(BlockScratch& s) {
+  const float* __restrict ux = s.ux;
+  const float* __restrict uy = s.uy;
+  const float* __restrict uz = s.uz;
+  const float* __restrict vx = s.vx;
+  const float* __restrict vy = s.vy;
+  const float* __restrict vz = s.vz;
+  float* __restrict spanned = s.spanned;
+  for (std::size_t k = 0; k < kBlock; ++k) {
+    const float crossX = uy[k] * vz[k] - uz[k] * vy[k], crossY = uz[k] * vx[k] - ux[k] * vz[k];
+    const float crossZ = ux[k] * vy[k] - uy[k] * vx[k];
+    spanned[k] = crossX * crossX + crossY * crossY + crossZ * crossZ;
+  }
+  // Eigen's packet square root (std::sqrt in a loop keeps a scalar errno path).
+  Eigen::Map<Eigen::Array<float, int(kBlock), 1>> root(spanned);
+  root = root.sqrt();
+  for (std::size_t k = 0; k < kBlock; ++k) {
+    // min(area / spanned, 1) without a branch: min(area, spanned) / spanned, and 0 / tiny where
+    // the edges span nothing.
+    const float fraction = std::min(s.area[k], spanned[k]) / std::max(spanned[k], std::numeric_limits<float>::min());
+    const float scale = fraction * (1.0f / 12.0f);
+    s.covariance[0][k] = scale * (ux[k] * ux[k] + vx[k] * vx[k]);
+    s.covariance[1][k] = scale * (uy[k] * uy[k] + vy[k] * vy[k]);
+    s.covariance[2][k] = scale * (uz[k] * uz[k] + vz[k] * vz[k]);
+    s.covariance[3][k] = scale * (ux[k] * uy[k] + vx[k] * vy[k]);
+    s.covariance[4][k] = scale * (ux[k] * uz[k] + vx[k] * vz[k]);
+    s.covariance[5][k] = scale * (uy[k] * uz[k] + vy[k] * vz[k]);
+  }
+}
+
+// Texels per SIMD chunk of the block sums (divides kBlock): kLanes float lanes.
+using Chunk = Eigen::Array<float, int(kLanes), 1>;
+template <std::size_t N>
+using Terms = std::array<Chunk, N>;
+
+// The chunk of `values` (one block's array) at texel j.
+Chunk chunkAt(const float* values, std::size_t j) { return Eigen::Map<const Chunk, Eigen::Aligned16>(values + j); }
+
+// Sums N per-texel terms over one block, chunk by chunk in float lanes (kBlock / kLanes terms per
+// lane), then across lanes in double. A few sums per call so that the accumulators stay in
+// registers. `term(j)` gives the N terms of the chunk at texel j.
+template <std::size_t N, class Term>
+std::array<double, N> blockSums(Term term) {
+  Terms<N> lanes;
+  for (Chunk& lane : lanes) lane.setZero();
+  for (std::size_t j = 0; j < kBlock; j += kLanes) {
+    const Terms<N> t = term(j);
+    for (std::size_t m = 0; m < N; ++m) lanes[m] += t[m];
+  }
+  std::array<double, N> sums;
+  for (std::size_t m = 0; m < N; ++m) sums[m] = lanes[m].template cast<double>().sum();
+  return sums;
 }
 
 }  // namespace
@@ -88,8 +171,7 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
   count_ = textures.size();
   const std::size_t blocks = (count_ + kBlock - 1) / kBlock;
   const std::size_t padded = blocks * kBlock;
-  // resize keeps the capacity: no allocation when the texel count is unchanged. The padding
-  // beyond count_ is zeroed once and never written.
+  // resize keeps the capacity: no allocation when the texel count is unchanged.
   dx_.resize(padded, 0.0f);
   dy_.resize(padded, 0.0f);
   dz_.resize(padded, 0.0f);
@@ -99,80 +181,89 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
   const float cx = static_cast<float>(referencePoint_.x());
   const float cy = static_cast<float>(referencePoint_.y());
   const float cz = static_cast<float>(referencePoint_.z());
-  // The textures as 3 x n float matrices (Vector3f is three packed floats).
-  using Rows = Eigen::Map<const Eigen::Array<float, 3, Eigen::Dynamic>>;
-  const Rows position(textures.position.empty() ? nullptr : textures.position.front().data(), 3, Eigen::Index(count_));
-  const Rows areaVector(textures.areaVector.empty() ? nullptr : textures.areaVector.front().data(), 3, Eigen::Index(count_));
-  const Rows edgeU(textures.edgeU.empty() ? nullptr : textures.edgeU.front().data(), 3, Eigen::Index(count_));
-  const Rows edgeV(textures.edgeV.empty() ? nullptr : textures.edgeV.front().data(), 3, Eigen::Index(count_));
+  // A texture shorter than the texel count (a malformed input) reads as zeros past its end.
+  const std::size_t count = std::min({count_, textures.areaVector.size(), textures.area.size(), textures.edgeU.size(),
+                                      textures.edgeV.size()});
   double volumeSum = 0.0, shellArea = 0.0;
-  double shell[9] = {};  // first x y z, second xx yy zz xy xz yz
+  double shellFirst[3] = {}, shellSecond[6] = {}, volumeFirst[3] = {}, volumeSecond[6] = {}, covariance[6] = {};
+  BlockScratch scratch;
   for (std::size_t b = 0; b < blocks; ++b) {
-    const std::size_t begin = b * kBlock, end = std::min(count_, begin + kBlock);
-    // A block in chunks of kChunk texels held in fixed-size Eigen arrays (SIMD, no branch); the
-    // sums stay in float lanes over the block (kBlock / kChunk terms each, as in evaluate) and
-    // are added in double across blocks.
-    Chunk cone[6], absVolume = Chunk::Zero(), area = Chunk::Zero(), shellBlock[9];
-    for (Chunk& c : cone) c.setZero();
-    for (Chunk& c : shellBlock) c.setZero();
-    // The enclosed volume is exact up to rounding: summed in double lanes (no dependent chain).
-    Eigen::Array<double, int(kChunk), 1> blockVolume = Eigen::Array<double, int(kChunk), 1>::Zero();
-    for (std::size_t chunk = begin; chunk < end; chunk += kChunk) {
-      const Eigen::Index first = Eigen::Index(chunk), n = Eigen::Index(std::min(kChunk, end - chunk));
-      // A whole chunk loads fixed-size (no loop set-up); the last one is padded with zeros, which
-      // add nothing.
-      auto load = [&](const Rows& rows, Eigen::Index row, float shift) {
-        if (n == Eigen::Index(kChunk)) return Chunk(rows.row(row).segment<int(kChunk)>(first).transpose() - shift);
-        Chunk out = Chunk::Zero();
-        for (Eigen::Index j = 0; j < n; ++j) out[j] = rows(row, first + j) - shift;
-        return out;
-      };
-      const Chunk x = load(position, 0, cx), y = load(position, 1, cy), z = load(position, 2, cz);
-      const Chunk ax = load(areaVector, 0, 0.0f), ay = load(areaVector, 1, 0.0f), az = load(areaVector, 2, 0.0f);
-      const Chunk ux = load(edgeU, 0, 0.0f), uy = load(edgeU, 1, 0.0f), uz = load(edgeU, 2, 0.0f);
-      const Chunk vx = load(edgeV, 0, 0.0f), vy = load(edgeV, 1, 0.0f), vz = load(edgeV, 2, 0.0f);
-      Chunk a = Chunk::Zero();
-      for (Eigen::Index j = 0; j < n; ++j) a[j] = textures.area[chunk + std::size_t(j)];
-      // (x, y, z) of padding texels is -c: harmless, their area vector and area are zero.
-      const Chunk v = (x * ax + y * ay + z * az) * (1.0f / 3.0f);
-      // The arrays are padded to whole blocks, so a whole chunk always fits.
-      Eigen::Map<Chunk>(dx_.data() + chunk) = x;
-      Eigen::Map<Chunk>(dy_.data() + chunk) = y;
-      Eigen::Map<Chunk>(dz_.data() + chunk) = z;
-      Eigen::Map<Chunk>(volume_.data() + chunk) = v;
-      blockVolume += v.cast<double>();
-      // Covariance of the texel's patch about its position, (eu eu^T + ev ev^T) / 12 for a whole
-      // flat parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered
-      // texel (at most 1).
-      const Chunk crossX = uy * vz - uz * vy, crossY = uz * vx - ux * vz, crossZ = ux * vy - uy * vx;
-      const Chunk spanned = (crossX * crossX + crossY * crossY + crossZ * crossZ).sqrt();
-      const Chunk k = (spanned > 0.0f).select((a / spanned).min(1.0f), 0.0f) * (1.0f / 12.0f);
-      const Chunk c[6] = {k * (ux * ux + vx * vx), k * (uy * uy + vy * vy), k * (uz * uz + vz * vz),
-                          k * (ux * uy + vx * vy), k * (ux * uz + vx * vz), k * (uy * uz + vy * vz)};
-      const Chunk w = 0.6f * v;
-      for (int m = 0; m < 6; ++m) cone[m] += w * c[m];
-      absVolume += v.abs();
-      area += a;
-      shellBlock[0] += a * x;
-      shellBlock[1] += a * y;
-      shellBlock[2] += a * z;
-      shellBlock[3] += a * (x * x + c[0]);
-      shellBlock[4] += a * (y * y + c[1]);
-      shellBlock[5] += a * (z * z + c[2]);
-      shellBlock[6] += a * (x * y + c[3]);
-      shellBlock[7] += a * (x * z + c[4]);
-      shellBlock[8] += a * (y * z + c[5]);
+    const std::size_t begin = b * kBlock;
+    const std::size_t filled = begin < count ? std::min(kBlock, count - begin) : 0;
+    // The block as structure-of-arrays (the positions go straight to dx_, dy_, dz_); padding
+    // texels are zero, and zero area vector and area add nothing.
+    const auto split = [&](const std::vector<Eigen::Vector3f>& packed, float sx, float sy, float sz, float* x, float* y,
+                           float* z) {
+      detail::splitTriples(filled > 0 ? packed[begin].data() : nullptr, filled, sx, sy, sz, x, y, z);
+      std::fill(x + filled, x + kBlock, 0.0f);
+      std::fill(y + filled, y + kBlock, 0.0f);
+      std::fill(z + filled, z + kBlock, 0.0f);
+    };
+    float* const x = dx_.data() + begin;
+    float* const y = dy_.data() + begin;
+    float* const z = dz_.data() + begin;
+    float* const v = volume_.data() + begin;
+    split(textures.position, cx, cy, cz, x, y, z);
+    split(textures.areaVector, 0.0f, 0.0f, 0.0f, scratch.ax, scratch.ay, scratch.az);
+    split(textures.edgeU, 0.0f, 0.0f, 0.0f, scratch.ux, scratch.uy, scratch.uz);
+    split(textures.edgeV, 0.0f, 0.0f, 0.0f, scratch.vx, scratch.vy, scratch.vz);
+    if (filled > 0) std::copy_n(textures.area.begin() + std::ptrdiff_t(begin), filled, scratch.area);
+    std::fill(scratch.area + filled, scratch.area + kBlock, 0.0f);
+
+    coneVolumes(x, y, z, scratch, v);
+    patchCovariances(scratch);
+    // The sums, a few at a time (each in float lanes over the block, then double).
+    const float* const a = scratch.area;
+    const auto& c = scratch.covariance;
+    double blockVolume = 0.0, blockAbs = 0.0, blockArea = 0.0;
+    // The enclosed volume is exact up to rounding: double lanes.
+    {
+      double lanes[kLanes] = {};
+      for (std::size_t i = 0; i < kBlock; i += kLanes)
+        for (std::size_t l = 0; l < kLanes; ++l) lanes[l] += double(v[i + l]);
+      for (double lane : lanes) blockVolume += lane;
     }
-    for (std::size_t m = 0; m < 6; ++m) blockCovariance_[6 * b + m] = cone[m].cast<double>().sum();
-    blockAbsVolume_[b] = absVolume.cast<double>().sum();
-    volumeSum += blockVolume.sum();
-    shellArea += area.cast<double>().sum();
-    for (std::size_t m = 0; m < 9; ++m) shell[m] += shellBlock[m].cast<double>().sum();
+    const auto volumeTerms = blockSums<5>([&](std::size_t j) {
+      const Chunk cv = chunkAt(v, j);
+      return Terms<5>{cv.abs(), chunkAt(a, j), cv * chunkAt(x, j), cv * chunkAt(y, j), cv * chunkAt(z, j)};
+    });
+    blockAbs = volumeTerms[0];
+    blockArea = volumeTerms[1];
+    addTo(volumeFirst, &volumeTerms[2]);
+    addTo(volumeSecond, blockSums<6>([&](std::size_t j) {
+            const Chunk cx_ = chunkAt(x, j), cy_ = chunkAt(y, j), cz_ = chunkAt(z, j), cv = chunkAt(v, j);
+            const Chunk vx = cv * cx_, vy = cv * cy_, vz = cv * cz_;
+            return Terms<6>{vx * cx_, vy * cy_, vz * cz_, vx * cy_, vx * cz_, vy * cz_};
+          }).data());
+    const auto cone = blockSums<6>([&](std::size_t j) {
+      const Chunk w = 0.6f * chunkAt(v, j);
+      return Terms<6>{w * chunkAt(c[0], j), w * chunkAt(c[1], j), w * chunkAt(c[2], j),
+                      w * chunkAt(c[3], j), w * chunkAt(c[4], j), w * chunkAt(c[5], j)};
+    });
+    std::copy(cone.begin(), cone.end(), &blockCovariance_[6 * b]);
+    addTo(covariance, cone.data());
+    addTo(shellFirst, blockSums<3>([&](std::size_t j) {
+            const Chunk ca = chunkAt(a, j);
+            return Terms<3>{ca * chunkAt(x, j), ca * chunkAt(y, j), ca * chunkAt(z, j)};
+          }).data());
+    addTo(shellSecond, blockSums<6>([&](std::size_t j) {
+            const Chunk ca = chunkAt(a, j), cx_ = chunkAt(x, j), cy_ = chunkAt(y, j), cz_ = chunkAt(z, j);
+            const Chunk ax = ca * cx_, ay = ca * cy_, az = ca * cz_;
+            return Terms<6>{ax * cx_ + ca * chunkAt(c[0], j), ay * cy_ + ca * chunkAt(c[1], j),
+                            az * cz_ + ca * chunkAt(c[2], j), ax * cy_ + ca * chunkAt(c[3], j),
+                            ax * cz_ + ca * chunkAt(c[4], j), ay * cz_ + ca * chunkAt(c[5], j)};
+          }).data());
+    blockAbsVolume_[b] = blockAbs;
+    volumeSum += blockVolume;
+    shellArea += blockArea;
   }
   totalVolume_ = volumeSum;
   shellArea_ = shellArea;
-  shellFirst_ = Eigen::Vector3d(shell[0], shell[1], shell[2]);
-  shellSecond_ << shell[3], shell[6], shell[7], shell[6], shell[4], shell[8], shell[7], shell[8], shell[5];
+  shellFirst_ = Eigen::Vector3d(shellFirst[0], shellFirst[1], shellFirst[2]);
+  shellSecond_ = symmetric(shellSecond);
+  volumeFirst_ = Eigen::Vector3d(volumeFirst[0], volumeFirst[1], volumeFirst[2]);
+  volumeSecond_ = symmetric(volumeSecond);
+  coneCovariance_ = symmetric(covariance);
 }
 
 Expected<MassProperties> TextureMassIntegrator::evaluate(const TextureMassModel& model) const {
@@ -186,62 +277,53 @@ Expected<MassProperties> TextureMassIntegrator::evaluate(const TextureMassModel&
     return Error{"shell density " + std::to_string(model.shellDensity) + " kg/m^2 is negative or not finite"};
 
   Moments m;
-  const float uniform = static_cast<float>(model.solidDensity);
-  float lowestDensity = mapped ? std::numeric_limits<float>::max() : uniform;
-  const std::size_t blocks = blockAbsVolume_.size();
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const std::size_t begin = b * kBlock;
-    const float* density = mapped ? model.texelDensity.data() + begin : nullptr;
-    // The density map is not padded: the last block reads a zero-padded copy.
-    float tail[kBlock];
-    if (mapped && begin + kBlock > count_) {
-      std::fill(std::begin(tail), std::end(tail), 0.0f);
-      std::copy(model.texelDensity.begin() + begin, model.texelDensity.end(), tail);
-      density = tail;
+  if (!mapped) {
+    // A uniform solid: its density times the geometry-only cone sums (update), no texel pass.
+    const double density = model.solidDensity;
+    m.mass = density * totalVolume_;
+    m.first = 0.75 * density * volumeFirst_;
+    m.second = density * (0.6 * volumeSecond_ + coneCovariance_);
+  } else {
+    float lowestDensity = std::numeric_limits<float>::max();
+    const std::size_t blocks = blockAbsVolume_.size();
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t begin = b * kBlock;
+      const float* density = model.texelDensity.data() + begin;
+      // The density map is not padded: the last block reads a zero-padded copy.
+      float tail[kBlock];
+      if (begin + kBlock > count_) {
+        std::fill(std::begin(tail), std::end(tail), 0.0f);
+        std::copy(model.texelDensity.begin() + std::ptrdiff_t(begin), model.texelDensity.end(), tail);
+        density = tail;
+      }
+      BlockSums sums;
+      accumulateBlock(dx_.data() + begin, dy_.data() + begin, dz_.data() + begin, volume_.data() + begin, density,
+                      sums);
+      double blockMass = 0.0, blockWeightedAbs = 0.0;
+      Eigen::Vector3d first = Eigen::Vector3d::Zero();
+      double second[6] = {};
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        blockMass += sums.mass[l];
+        first += Eigen::Vector3d(sums.fx[l], sums.fy[l], sums.fz[l]);
+        second[0] += sums.sxx[l];
+        second[1] += sums.syy[l];
+        second[2] += sums.szz[l];
+        second[3] += sums.sxy[l];
+        second[4] += sums.sxz[l];
+        second[5] += sums.syz[l];
+        blockWeightedAbs += sums.weightedAbs[l];
+        lowestDensity = std::min(lowestDensity, sums.lowest[l]);
+      }
+      // The cone covariance terms were summed per block without density; weight them by the
+      // block's mean density (exact where the density is uniform over the block).
+      const double meanDensity = blockAbsVolume_[b] > 0.0 ? blockWeightedAbs / blockAbsVolume_[b] : 0.0;
+      m.mass += blockMass;
+      m.first += 0.75 * first;
+      m.second += 0.6 * symmetric(second) + meanDensity * symmetric(&blockCovariance_[6 * b]);
     }
-    const float* dx = dx_.data() + begin;
-    const float* dy = dy_.data() + begin;
-    const float* dz = dz_.data() + begin;
-    const float* vol = volume_.data() + begin;
-    BlockSums sums;
-    if (mapped)
-      accumulateBlock<true>(dx, dy, dz, vol, density, uniform, sums);
-    else
-      accumulateBlock<false>(dx, dy, dz, vol, density, uniform, sums);
-    double blockMass = 0.0, blockWeightedAbs = 0.0;
-    Eigen::Vector3d first = Eigen::Vector3d::Zero();
-    double s[6] = {};
-    for (std::size_t l = 0; l < kLanes; ++l) {
-      blockMass += sums.mass[l];
-      first += Eigen::Vector3d(sums.fx[l], sums.fy[l], sums.fz[l]);
-      s[0] += sums.sxx[l];
-      s[1] += sums.syy[l];
-      s[2] += sums.szz[l];
-      s[3] += sums.sxy[l];
-      s[4] += sums.sxz[l];
-      s[5] += sums.syz[l];
-      blockWeightedAbs += sums.weightedAbs[l];
-      lowestDensity = std::min(lowestDensity, sums.lowest[l]);
-    }
-    // The cone covariance terms were summed per block without density; weight them by the
-    // block's mean density (exact where the density is uniform over the block).
-    const double meanDensity =
-        mapped ? (blockAbsVolume_[b] > 0.0 ? blockWeightedAbs / blockAbsVolume_[b] : 0.0) : model.solidDensity;
-    const double* c = &blockCovariance_[6 * b];
-    m.mass += blockMass;
-    m.first += 0.75 * first;
-    m.second(0, 0) += 0.6 * s[0] + meanDensity * c[0];
-    m.second(1, 1) += 0.6 * s[1] + meanDensity * c[1];
-    m.second(2, 2) += 0.6 * s[2] + meanDensity * c[2];
-    m.second(0, 1) += 0.6 * s[3] + meanDensity * c[3];
-    m.second(0, 2) += 0.6 * s[4] + meanDensity * c[4];
-    m.second(1, 2) += 0.6 * s[5] + meanDensity * c[5];
+    if (!(lowestDensity >= 0.0f) || !std::isfinite(m.mass))
+      return Error{"density map has a negative or non-finite density"};
   }
-  if (mapped && (!(lowestDensity >= 0.0f) || !std::isfinite(m.mass)))
-    return Error{"density map has a negative or non-finite density"};
-  m.second(1, 0) = m.second(0, 1);
-  m.second(2, 0) = m.second(0, 2);
-  m.second(2, 1) = m.second(1, 2);
   // The shell: uniform areal density over geometry-only sums prepared once.
   m.mass += model.shellDensity * shellArea_;
   m.first += model.shellDensity * shellFirst_;

@@ -81,6 +81,11 @@ class TextureMassIntegrator {
   double shellArea_ = 0.0;
   Eigen::Vector3d shellFirst_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d shellSecond_ = Eigen::Matrix3d::Zero();
+  // Geometry-only sums of the cones about the reference point: sum v d, sum v d d^T and sum of the
+  // covariance terms 3/5 v C. A uniform solid's moments are these times its density.
+  Eigen::Vector3d volumeFirst_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d volumeSecond_ = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d coneCovariance_ = Eigen::Matrix3d::Zero();
   double totalVolume_ = 0.0;
 };
 
