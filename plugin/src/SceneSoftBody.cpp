@@ -75,8 +75,8 @@ Status checkSoftBody(const SceneBody& body, const std::string& path, const std::
   if (!body.scaleKeyframes.empty()) return Error{where + "a soft body deforms by itself: no deform"};
   if (body.method != HydrostaticsMethod::Texture) return Error{where + "a soft body takes the texture method only"};
   if (body.effects.has(Effect::Wetting) || body.effects.has(Effect::Flooding) || body.effects.has(Effect::VariableMass) ||
-      body.effects.has(Effect::Deformation))
-    return Error{where + "a soft body takes buoyancy only (no wetting, flooding, variable_mass or deformation)"};
+      body.effects.has(Effect::Deformation) || body.effects.has(Effect::AddedMass))
+    return Error{where + "a soft body takes buoyancy and drag only (no wetting, flooding, variable_mass, deformation or added_mass)"};
   if (body.angularVelocity.squaredNorm() > 0.0) return Error{where + "a soft body takes no angular_velocity"};
   return Ok{};
 }
@@ -116,6 +116,7 @@ Expected<std::unique_ptr<btSoftBody>> createSceneSoftBody(const SceneBody& body,
   soft->setVelocity(toBullet(body.linearVelocity));
   SoftBodySettings settings;
   settings.resolution = body.resolution;
+  settings.effects = body.effects;  // buoyancy and drag (checkSoftBody refused the others)
   if (Status s = controller.addSoftBody(soft.get(), settings); !s) return s.error();
   world.addSoftBody(soft.get());
   return soft;

@@ -21,9 +21,9 @@ namespace hydrotex::bullet::detail {
 Status parseSoftBody(const nlohmann::json* soft, const nlohmann::json* material, const std::string& path,
                      const std::string& source, SceneBody& body);
 
-/// A soft body takes its mass (`density` or `mass`), pose, velocity, resolution and material, and
-/// nothing of the rigid bodies' mass model or effects: error naming the first key that a soft
-/// body cannot honour.
+/// A soft body takes its mass (`density` or `mass`), pose, velocity, resolution, material and the
+/// effects `buoyancy` and `drag`, and nothing of the rigid bodies' mass model or other effects:
+/// error naming the first key that a soft body cannot honour.
 Status checkSoftBody(const SceneBody& body, const std::string& path, const std::string& source);
 
 /// Builds the btSoftBody of `body` from `mesh` (its vertices become the nodes, its triangles the

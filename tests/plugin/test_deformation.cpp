@@ -1,11 +1,18 @@
 // The deformation effect: vertices moved every step (scale keyframes or a callback), PT/VAT
 // re-evaluated from the kept bake, buoyancy and mass following; hot-air balloons lifting off when
 // the displaced air outweighs envelope, basket and inner gas (ideal gas law), against the closed
-// form.
+// form. A callback's moved vertices move the collision shape too (hulls, triangle meshes; a
+// convex hull on request for primitives), so an inflated body rests on the floor at its new size.
 
 #include <catch2/catch.hpp>
+
+#include <BulletCollision/Gimpact/btGImpactShape.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <vector>
 
 #include "PluginTestWorld.hpp"
 #include "hydrotex/IdealGas.hpp"
@@ -192,4 +199,143 @@ TEST_CASE("a deformation callback moves the vertices; volume and mass follow", "
   FloatingBodySettings neither = solid(300.0, {Effect::Deformation}, HydrostaticsMethod::Texture);
   neither.mesh = std::make_shared<const Mesh>(primitives::box({1.0, 1.0, 1.0}));
   CHECK(neither.validate().error().message.find("deformation") != std::string::npos);
+}
+
+// ---- The collision shape of a body moved by a deformation callback ----
+
+namespace {
+
+/// Doubles the body about its mesh origin over its first second.
+void inflateTwice(double time, const Mesh& rest, std::vector<Eigen::Vector3d>& positions) {
+  const double scale = 1.0 + std::min(time, 1.0);
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = scale * rest.positions[i];
+}
+
+/// Air over a ground plane at y = 0: nothing floats, the ground carries the body.
+struct GroundWorld {
+  TestWorld world{std::make_shared<UniformMedium>(kAir, std::numeric_limits<double>::infinity(), 0.0), 1.8e-5};
+  btStaticPlaneShape groundShape{btVector3(0, 1, 0), 0};
+  btRigidBody ground{btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &groundShape)};
+  GroundWorld() { world.world().addRigidBody(&ground); }
+  ~GroundWorld() { world.world().removeRigidBody(&ground); }
+  /// Height of the mesh origin (m) after `seconds` of 1/120 s steps.
+  double heightAfter(btRigidBody* body, double seconds) {
+    for (int i = 0; i < int(seconds * 120.0); ++i) world.step(1.0 / 120.0);
+    return double(world.controller().meshTransform(body)->getOrigin().y());
+  }
+};
+
+FloatingBodySettings inflatingBox() {
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy, Effect::Deformation}, HydrostaticsMethod::Texture, 32);
+  settings.deformation = inflateTwice;
+  return settings;
+}
+
+/// Convex margin of the body's collision shape (the compound's child), m.
+double childMargin(btRigidBody* body) {
+  return double(static_cast<btCompoundShape*>(body->getCollisionShape())->getChildShape(0)->getMargin());
+}
+
+}  // namespace
+
+TEST_CASE("a body inflated 2x by a deformation callback rests on the floor at its new size", "[deformation][collision]") {
+  // A 1 m box resting on the ground (centre 0.5 m up) grows to 2 m: its hull follows the vertices,
+  // so it ends resting with its centre 1 m up, plus the hull's convex margin (Bullet puts it
+  // around the points). 5 mm: Bullet's resting penetration and contact jitter.
+  GroundWorld ground;
+  btRigidBody* box = ground.world.add(primitives::box({1.0, 1.0, 1.0}), inflatingBox(), btVector3(0, 0.5f, 0));
+  REQUIRE(box != nullptr);
+  const btCollisionShape* hull = static_cast<btCompoundShape*>(box->getCollisionShape())->getChildShape(0);
+  btVector3 lower, upper;
+  hull->getAabb(btTransform::getIdentity(), lower, upper);
+  const btVector3 restSize = upper - lower;  // 1 m plus the margins Bullet adds
+  const double height = ground.heightAfter(box, 3.0);
+  CHECK(height == Approx(1.0 + childMargin(box)).margin(5e-3));
+  // The hull's bounds (mesh frame) grew by the box's growth, 1 m per axis (float bounds: 1e-3).
+  hull->getAabb(btTransform::getIdentity(), lower, upper);
+  for (int c = 0; c < 3; ++c) CHECK(double((upper - lower)[c] - restSize[c]) == Approx(1.0).margin(1e-3));
+  CHECK(ground.world.controller().statistics().failedQueries == 0);
+}
+
+TEST_CASE("a deformation callback with a primitive shape: an error, a convex hull on request, or kept as asked", "[deformation][collision]") {
+  GroundWorld ground;
+  btBoxShape boxShape(btVector3(0.5f, 0.5f, 0.5f));
+  auto make = [&] {
+    btRigidBody::btRigidBodyConstructionInfo info(1, nullptr, &boxShape, btVector3(1, 1, 1));
+    auto body = std::make_unique<btRigidBody>(info);
+    body->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.5f, 0)));
+    return body;
+  };
+  FloatingBodySettings settings = inflatingBox();
+  settings.mesh = std::make_shared<const Mesh>(primitives::box({1.0, 1.0, 1.0}));
+  BuoyancyController& controller = ground.world.controller();
+
+  // Follow (the default): a box shape cannot follow moved vertices; said at registration.
+  auto refused = make();
+  const Status status = controller.addBody(refused.get(), settings);
+  REQUIRE_FALSE(status.ok());
+  CHECK(status.error().message.find("cannot follow") != std::string::npos);
+  CHECK(status.error().message.find("Box") != std::string::npos);  // btBoxShape::getName()
+  CHECK(refused->getCollisionShape() == &boxShape);                  // given back untouched
+  CHECK(controller.bodyCount() == 0);
+
+  SECTION("ConvexHull: the body collides as the hull of its moved vertices") {
+    settings.deformedCollision = DeformedCollisionShape::ConvexHull;
+    auto body = make();
+    REQUIRE(controller.addBody(body.get(), settings).ok());
+    ground.world.world().addRigidBody(body.get());
+    const double height = ground.heightAfter(body.get(), 3.0);
+    CHECK(height == Approx(1.0 + childMargin(body.get())).margin(5e-3));
+    ground.world.world().removeRigidBody(body.get());
+    REQUIRE(controller.removeBody(body.get()));
+    CHECK(body->getCollisionShape() == &boxShape);  // the user's shape back
+  }
+  SECTION("Keep: the shape stays the 1 m box, so the grown body sinks into the floor") {
+    settings.deformedCollision = DeformedCollisionShape::Keep;
+    auto body = make();
+    REQUIRE(controller.addBody(body.get(), settings).ok());
+    ground.world.world().addRigidBody(body.get());
+    CHECK(ground.heightAfter(body.get(), 3.0) == Approx(0.5).margin(1e-2));  // the box shape's own rest height
+    ground.world.world().removeRigidBody(body.get());
+    REQUIRE(controller.removeBody(body.get()));
+  }
+}
+
+TEST_CASE("triangle-mesh shapes over the mesh's vertices are rewritten and refitted", "[deformation][collision]") {
+  const Mesh mesh = primitives::box({1.0, 1.0, 1.0});
+  // The user's vertex array: the mesh's vertices in order (float), its triangles.
+  std::vector<float> vertices;
+  for (const Eigen::Vector3d& p : mesh.positions)
+    for (int c = 0; c < 3; ++c) vertices.push_back(float(p[c]));
+  std::vector<int> indices;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    for (int c = 0; c < 3; ++c) indices.push_back(t[c]);
+  btTriangleIndexVertexArray array(int(mesh.triangles.size()), indices.data(), 3 * int(sizeof(int)),
+                                   int(mesh.positions.size()), vertices.data(), 3 * int(sizeof(float)));
+  const bool gimpact = GENERATE(true, false);
+  CAPTURE(gimpact);
+  std::unique_ptr<btCollisionShape> shape;
+  if (gimpact) {
+    auto made = std::make_unique<btGImpactMeshShape>(&array);
+    made->updateBound();
+    shape = std::move(made);
+  } else {
+    shape = std::make_unique<btBvhTriangleMeshShape>(&array, true);
+  }
+  TestWorld world(std::make_shared<UniformMedium>(kAir, std::numeric_limits<double>::infinity(), 0.0), 1.8e-5);
+  btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, shape.get(), btVector3(1, 1, 1)));
+  FloatingBodySettings settings = inflatingBox();
+  settings.mesh = std::make_shared<const Mesh>(mesh);
+  REQUIRE(world.controller().addBody(&body, settings).ok());
+  btVector3 lower, upper;
+  shape->getAabb(btTransform::getIdentity(), lower, upper);
+  const btVector3 restSize = upper - lower;  // 1 m plus whatever margins the shape adds
+  for (int i = 0; i < 150; ++i) world.step(1.0 / 120.0);  // 1.25 s: fully grown
+  // The vertex array holds the grown vertices (float rounding), and the shape's bounds are 2 m.
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(double(vertices[3 * i + std::size_t(c)]) == Approx(2.0 * mesh.positions[i][c]).margin(1e-6));
+  // The refitted bounds grew by the box's growth, 1 m per axis (float bounds: 1e-3).
+  shape->getAabb(btTransform::getIdentity(), lower, upper);
+  for (int c = 0; c < 3; ++c) CHECK(double((upper - lower)[c] - restSize[c]) == Approx(1.0).margin(1e-3));
+  REQUIRE(world.controller().removeBody(&body));
 }

@@ -107,6 +107,25 @@ struct FloodingBodySettings {
   Status validate() const;
 };
 
+/// What a deformation callback (FloatingBodySettings::deformation) does to the body's collision
+/// shape. Scale keyframes always scale the user's shape (setLocalScaling) instead.
+enum class DeformedCollisionShape {
+  /// The user's shape follows the moved vertices every step, AABBs refreshed: a
+  /// btConvexHullShape whose points all sit on mesh vertices (its points are moved; it is the
+  /// user's object, and keeps the last shape after removeBody), or a btGImpactMeshShape or
+  /// btBvhTriangleMeshShape over a one-part vertex array holding the mesh's vertices in order
+  /// (the array is rewritten and the tree refitted). Any other shape (a primitive, a compound, a
+  /// hull of other points, a scaled shape) cannot follow: addBody returns an Error naming it.
+  Follow,
+  /// The body collides as a convex hull of all its moved vertices, made and owned by the
+  /// controller (margin: the user's shape's); the user's shape is kept aside and given back by
+  /// removeBody. For primitives, and for concave bodies when a hull is good enough.
+  ConvexHull,
+  /// The user's shape is left as registered: it will not match the deformed mesh (as before
+  /// this option existed). For a shape that is deliberately a fixed proxy.
+  Keep,
+};
+
 /// Which hydrostatics path a body uses.
 enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
@@ -140,8 +159,10 @@ struct FloatingBodySettings {
   /// Concentrated masses (cargo, passengers, a basket), mesh frame; paths need Effect::VariableMass.
   std::vector<PointMass> pointMasses;
   /// With Effect::Deformation: moves the vertices every step (or use scaleKeyframes). The
-  /// collision shape is left as it is.
+  /// collision shape follows as deformedCollision says.
   DeformationFunction deformation;
+  /// With a deformation function: how the collision shape follows the moved vertices.
+  DeformedCollisionShape deformedCollision = DeformedCollisionShape::Follow;
   /// With Effect::Deformation: scales the mesh about its origin; the collision shape is scaled too.
   std::vector<ScaleKeyframe> scaleKeyframes;
   /// The effects this body pays for.
