@@ -297,6 +297,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   bodies_.push_back(std::move(floating));
   if (registered.deformation) {
     registered.mesh = registered.deformation->current;
+    if (Status s = attachDeformedCollision(registered); !s) {  // BodyDeformation.cpp
+      removeBody(body);
+      return s;
+    }
     deform(registered);  // the pose at the current time, collision shape included
   }
   if (registered.massModel) {
@@ -410,8 +414,17 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   time_ += dt;
   ++statistics_.steps;
   for (const auto& floating : bodies_) stepBody(*floating, dt);
-  for (SoftBodyBuoyancy& soft : softBodies_)
-    if (!soft.apply(*liquid_.surface, time_, dt)) ++statistics_.failedQueries;
+  const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
+  for (SoftBodyBuoyancy& soft : softBodies_) {
+    if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
+      ++statistics_.failedQueries;
+      continue;
+    }
+    const SoftBodyReport& done = soft.report();  // the same counters as rigid bodies' effects
+    if (done.pressureApplied) ++statistics_.hydrostaticsQueries;
+    if (done.dragApplied) ++statistics_.dragPasses;
+    statistics_.dragPatchesVisited += done.dragTexelsVisited;
+  }
 }
 
 Status BuoyancyController::addSoftBody(btSoftBody* body, const SoftBodySettings& settings) {

@@ -16,6 +16,7 @@
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
 #include "hydrotex/Wetting.hpp"
+#include "DeformedCollision.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 namespace hydrotex::bullet {
@@ -29,6 +30,7 @@ struct DeformationState {
   SurfaceTextures textures;             ///< PT/VAT of the current vertices
   SurfaceEvaluator evaluator;           ///< the bake arranged for the per-step re-evaluation
   std::vector<Eigen::Vector3d> positions;  ///< scratch for the deformation function
+  DeformedCollision collision;          ///< the collision shape a deformation function moves (BodyDeformation.cpp)
 };
 
 /// The liquid texture of a body (only for Effect::Wetting).

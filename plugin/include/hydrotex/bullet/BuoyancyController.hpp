@@ -104,7 +104,8 @@ class BuoyancyController : public btActionInterface {
   /// wraps its collision shape in a compound whose child offset keeps the shape in place; a
   /// btDefaultMotionState gets the matching centre-of-mass offset. The body's velocity is kept.
   /// Errors: null or static body, body already registered, invalid settings, an unreadable or
-  /// open mesh, a bake that fails.
+  /// open mesh, a bake that fails, a deformation function with a collision shape that cannot
+  /// follow it (FloatingBodySettings::deformedCollision).
   Status addBody(btRigidBody* body, const FloatingBodySettings& settings);
 
   /// Unregisters `body` and gives it back its own collision shape (in the mesh frame, origin at
@@ -113,8 +114,9 @@ class BuoyancyController : public btActionInterface {
 
   /// Registers a soft body (in a btSoftRigidDynamicsWorld): every step its nodes get the texel
   /// pressure forces of the liquid (SoftBodyBuoyancy); its shape and mass stay Bullet's (kPR,
-  /// kVC, kMT, setTotalMass). No drag, added mass or other effect. Errors: those of
-  /// SoftBodyBuoyancy::create, or `body` already registered.
+  /// kVC, kMT, setTotalMass), and the drag law on its texels when settings.effects lists
+  /// Effect::Drag (counted in statistics() as a drag pass, texels as patches). No other effect.
+  /// Errors: those of SoftBodyBuoyancy::create, or `body` already registered.
   Status addSoftBody(btSoftBody* body, const SoftBodySettings& settings = {});
   /// Unregisters a soft body. False when unknown.
   bool removeSoftBody(btSoftBody* body);
@@ -170,6 +172,7 @@ class BuoyancyController : public btActionInterface {
   void stepBody(FloatingBody& floating, double dt);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
+  Status attachDeformedCollision(FloatingBody& floating);
   void followMassModel(FloatingBody& floating);
   void flood(FloatingBody& floating, double dt);
   void wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt);
