@@ -47,34 +47,78 @@ double saturationVapourPressure(double kelvin) {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// exp(-x) for 0 <= x (NaN excluded) in float, the precision the contents are stored in: x =
-// k ln 2 + r with |r| <= ln 2 / 2, e^r by its Taylor series to r^6 (remainder 0.35^7 / 7! <
-// 1.3e-8), 2^-k set in the exponent bits. Several times cheaper than std::exp, and the per-texel
-// pass runs one for every submerged or drying texel.
-inline float expNegative(float x) {
-  x = std::min(x, 80.0f);  // e^-80 = 2e-35: nothing left of a content in metres
+// Four texels at a time in GCC/Clang vector extensions (SSE2 on x86-64, NEON on ARM): the
+// per-texel pass is arithmetic on independent texels, and the stage of each (under the liquid,
+// wet, drying) is selected per lane instead of branched to.
+using Lanes = float __attribute__((vector_size(16)));
+using LaneMask = std::int32_t __attribute__((vector_size(16)));
+constexpr std::size_t kLaneCount = 4;
+
+inline Lanes splat(float x) { return Lanes{x, x, x, x}; }
+inline Lanes select(LaneMask mask, Lanes a, Lanes b) {
+  return reinterpret_cast<Lanes>((mask & reinterpret_cast<LaneMask>(a)) | (~mask & reinterpret_cast<LaneMask>(b)));
+}
+inline Lanes minimum(Lanes a, Lanes b) { return select(a < b, a, b); }
+// `count` (1..4) values from `p`; the lanes past them are 0. A whole block is one unaligned move.
+inline Lanes load(const float* p, std::size_t count) {
+  Lanes v = splat(0.0f);
+  if (count == kLaneCount)
+    std::memcpy(&v, p, sizeof v);
+  else
+    for (std::size_t k = 0; k < count; ++k) v[k] = p[k];
+  return v;
+}
+inline void store(float* p, std::size_t count, Lanes v) {
+  if (count == kLaneCount)
+    std::memcpy(p, &v, sizeof v);
+  else
+    for (std::size_t k = 0; k < count; ++k) p[k] = v[k];
+}
+inline LaneMask loadMask(const std::uint8_t* p, std::size_t count) {
+  LaneMask m = {0, 0, 0, 0};
+  for (std::size_t k = 0; k < kLaneCount; ++k) m[k] = k < count && p[k] ? -1 : 0;
+  return m;
+}
+inline void storeMask(std::uint8_t* p, std::size_t count, LaneMask m) {
+  for (std::size_t k = 0; k < kLaneCount; ++k)
+    if (k < count) p[k] = m[k] ? 1 : 0;
+}
+// Sum of a mask's lanes (-1 per set lane).
+inline std::int64_t horizontalSum(LaneMask m) { return std::int64_t{m[0]} + m[1] + m[2] + m[3]; }
+inline bool any(LaneMask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+// Sum of the lanes in double.
+inline double volumeSum(Lanes v) {
+  return (static_cast<double>(v[0]) + static_cast<double>(v[1])) + (static_cast<double>(v[2]) + static_cast<double>(v[3]));
+}
+
+// exp(-x) for x >= 0 in float, the precision the contents are stored in (a NaN or negative x
+// gives 1, +inf and x > 80 give e^-80 = 2e-35: nothing left of a content in metres): x = k ln 2
+// + r with |r| <= ln 2 / 2, e^r by its Taylor series to r^6 (remainder 0.35^7 / 7! < 1.3e-8),
+// 2^-k set in the exponent bits. Several times cheaper than std::exp.
+inline Lanes expNegative(Lanes x) {
+  x = select(x > splat(0.0f), x, splat(0.0f));
+  x = minimum(x, splat(80.0f));
   constexpr float kLn2 = 0.693147181f, kInvLn2 = 1.44269504f;
-  // Rounded to nearest by truncation of a positive number (nearbyint is a library call on SSE2).
-  const float k = static_cast<float>(static_cast<std::int32_t>(x * kInvLn2 + 0.5f));
-  const float r = k * kLn2 - x;
-  float p = 1.0f / 720.0f;
-  p = p * r + 1.0f / 120.0f;
-  p = p * r + 1.0f / 24.0f;
-  p = p * r + 1.0f / 6.0f;
-  p = p * r + 0.5f;
-  p = p * r + 1.0f;
-  p = p * r + 1.0f;
-  const auto exponent = static_cast<std::uint32_t>(127 - static_cast<std::int32_t>(k)) << 23;
-  float scale;
-  std::memcpy(&scale, &exponent, sizeof scale);
-  return p * scale;
+  // Rounded to nearest by truncation of a positive number.
+  const LaneMask k = __builtin_convertvector(x * splat(kInvLn2) + splat(0.5f), LaneMask);
+  const Lanes kf = __builtin_convertvector(k, Lanes);
+  const Lanes r = kf * splat(kLn2) - x;
+  Lanes p = splat(1.0f / 720.0f);
+  p = p * r + splat(1.0f / 120.0f);
+  p = p * r + splat(1.0f / 24.0f);
+  p = p * r + splat(1.0f / 6.0f);
+  p = p * r + splat(0.5f);
+  p = p * r + splat(1.0f);
+  p = p * r + splat(1.0f);
+  const LaneMask exponent = (LaneMask{127, 127, 127, 127} - k) << 23;
+  return p * reinterpret_cast<Lanes>(exponent);
 }
 
 // 1 - e^-x in float, without the cancellation of 1 - expNegative(x) for small x (a short step
 // under water): series to x^4 below 0.03 (remainder x^5 / 120 < 7e-9 relative to x).
-inline float oneMinusExpNegative(float x) {
-  if (x < 0.03f) return x * (1.0f - x * (0.5f - x * (1.0f / 6.0f - x * (1.0f / 24.0f))));
-  return 1.0f - expNegative(x);
+inline Lanes oneMinusExpNegative(Lanes x) {
+  const Lanes series = x * (splat(1.0f) - x * (splat(0.5f) - x * (splat(1.0f / 6.0f) - x * splat(1.0f / 24.0f))));
+  return select(x < splat(0.03f), series, splat(1.0f) - expNegative(x));
 }
 
 }  // namespace
@@ -113,6 +157,9 @@ struct Wetting::ImplicitSystem {
   double dt = -1.0;
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
   Eigen::VectorXd solution;
+  // Scratch, kept so that a step allocates nothing once sized.
+  Eigen::VectorXd rhs, start;
+  std::vector<double> flux, volume, pigment;
 };
 
 // A source in the body frame: rain as the unit vector against its fall (a texel's facing is then
@@ -155,7 +202,9 @@ Expected<Wetting> Wetting::create(TexelAdjacency adjacency, const SurfaceTexture
     w.nz_[i] = normal.z();
   }
   w.submerged_.assign(n, 0);
-  w.delta_.assign(n, 0.0f);
+  w.area_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) w.area_[i] = static_cast<float>(adjacency.area[i]);
+  w.pressure_.assign(n, 0.0f);
   w.adjacency_ = std::move(adjacency);
   w.buildDiffusionGroups();
   w.implicit_ = std::make_unique<ImplicitSystem>();
@@ -249,9 +298,37 @@ void Wetting::buildDiffusionGroups() {
     conductanceSum[a] += g.conductance[p];
     conductanceSum[b] += g.conductance[p];
   }
-  pairConductance_.resize(pairGeometric_.size());
-  for (std::size_t p = 0; p < pairGeometric_.size(); ++p)
-    pairConductance_[p] = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
+  // The explicit sweep's layout: per holding texel, its pairs towards higher indices (CSR), with
+  // the float D g_ij of each; the ring that carries fluxes forward spans the longest such reach.
+  // The pair to the next texel (most texels have it) in its own array, the others as CSR.
+  nextConductance_.assign(n, 0.0f);
+  std::vector<std::uint8_t> isNext(pairFirst_.size(), 0);
+  for (std::size_t p = 0; p < pairFirst_.size(); ++p) {
+    const std::uint32_t low = std::min(pairFirst_[p], pairSecond_[p]), high = std::max(pairFirst_[p], pairSecond_[p]);
+    if (high == low + 1 && nextConductance_[low] == 0.0f) {
+      nextConductance_[low] = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
+      isNext[p] = nextConductance_[low] > 0.0f;
+    }
+  }
+  upperStart_.assign(n + 1, 0);
+  for (std::size_t p = 0; p < pairFirst_.size(); ++p)
+    if (!isNext[p]) ++upperStart_[std::min(pairFirst_[p], pairSecond_[p]) + 1];
+  for (std::size_t i = 0; i < n; ++i) upperStart_[i + 1] += upperStart_[i];
+  upperNeighbour_.resize(upperStart_[n]);
+  upperConductance_.resize(upperStart_[n]);
+  std::vector<std::uint32_t> cursor(upperStart_.begin(), upperStart_.end() - 1);
+  std::size_t reach = 1;
+  for (std::size_t p = 0; p < pairFirst_.size(); ++p) {
+    if (isNext[p]) continue;
+    const std::uint32_t low = std::min(pairFirst_[p], pairSecond_[p]), high = std::max(pairFirst_[p], pairSecond_[p]);
+    upperNeighbour_[cursor[low]] = high;
+    upperConductance_[cursor[low]++] = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
+    reach = std::max<std::size_t>(reach, high - low);
+  }
+  std::size_t ringSize = 1;
+  while (ringSize <= reach) ringSize *= 2;
+  ring_.assign(ringSize, 0.0f);
+  pigmentRing_.assign(ringSize, 0.0f);
   stableStep_ = std::numeric_limits<double>::infinity();
   if (settings_.diffusivity > 0.0)
     for (std::size_t i = 0; i < n; ++i)
@@ -276,14 +353,57 @@ Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingE
         !source.direction.allFinite() || !(source.radius >= 0.0) || !(source.pigment >= 0.0 && source.pigment <= 1.0))
       return Error{"wetting: a liquid source has a negative rate or radius, a pigment outside 0..1, or a NaN"};
   WettingStepReport report;
-  if (dynamic_cast<const FlatSurface*>(environment.liquid) || !environment.liquid)
-    exchange<true>(texture, environment, dt, true, true, report);
-  else
-    exchange<false>(texture, environment, dt, true, true, report);
-  report.diffusionSubsteps = diffuse(texture, dt);
-  report.implicitDiffusion = report.diffusionSubsteps == 0 && dt > 0.0 && !pairFirst_.empty() &&
-                             settings_.diffusivity > 0.0;
+  const bool flat = dynamic_cast<const FlatSurface*>(environment.liquid) || !environment.liquid;
+  const int substeps = explicitSubsteps(dt);
+  if (substeps >= 1 && groupStart_.empty()) {
+    // The common case in one pass over memory: the exchange runs ahead of the first diffusion
+    // sub-step's sweep by the sweep's reach, so every texel is exchanged before a flux reads it.
+    if (flat)
+      fusedStep<true>(texture, environment, dt, substeps, report);
+    else
+      fusedStep<false>(texture, environment, dt, substeps, report);
+  } else {
+    if (flat)
+      exchange<true>(texture, environment, dt, true, true, report);
+    else
+      exchange<false>(texture, environment, dt, true, true, report);
+    report.diffusionSubsteps = diffuse(texture, dt);
+  }
+  report.implicitDiffusion = substeps < 0;
   return report;
+}
+
+int Wetting::explicitSubsteps(double dt) const {
+  if (!(dt > 0.0) || pairFirst_.empty() || !(settings_.diffusivity > 0.0)) return 0;
+  const double substeps = std::ceil(dt / stableStep_);
+  return substeps <= settings_.maxExplicitSubsteps ? std::max(1, static_cast<int>(substeps)) : -1;
+}
+
+template <bool Flat>
+void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& environment, double dt, int substeps,
+                        WettingStepReport& report) {
+  const ExchangeConstants k = prepareExchange<Flat>(texture, environment, dt, true, true);
+  const std::size_t n = px_.size();
+  ExchangeTotals totals;
+  std::size_t exchanged = 0;
+  // The sweep of texels below `end` reads texels below end + reach (the ring's size bounds it).
+  const std::size_t reach = ring_.size();
+  auto ahead = [&](std::size_t end) {
+    const std::size_t upTo = std::min(n, end + reach);
+    if (upTo <= exchanged) return;
+    exchangeRange<Flat>(texture, k, exchanged, upTo, totals);
+    exchanged = upTo;
+  };
+  const auto step = static_cast<float>(dt / substeps);
+  if (texture.pigment.empty())
+    sweep<false>(texture, step, ahead);
+  else
+    sweep<true>(texture, step, ahead);
+  for (int s = 1; s < substeps; ++s) diffuseExplicit(texture, dt / substeps);
+  report.absorbed = totals.absorbed;
+  report.evaporated = totals.evaporated;
+  report.submergedTexels = totals.submerged;
+  report.diffusionSubsteps = substeps;
 }
 
 double Wetting::absorb(LiquidTexture& texture, const WettingEnvironment& environment, double dt,
@@ -306,20 +426,23 @@ double Wetting::evaporate(LiquidTexture& texture, double dt) {
 template <bool Flat>
 void Wetting::exchange(LiquidTexture& texture, const WettingEnvironment& environment, double dt, bool absorbing,
                        bool evaporating, WettingStepReport& report) {
+  const ExchangeConstants k = prepareExchange<Flat>(texture, environment, dt, absorbing, evaporating);
+  report = WettingStepReport{};
+  ExchangeTotals totals;
+  exchangeRange<Flat>(texture, k, 0, px_.size(), totals);
+  report.absorbed = totals.absorbed;
+  report.evaporated = totals.evaporated;
+  report.submergedTexels = totals.submerged;
+}
+
+template <bool Flat>
+Wetting::ExchangeConstants Wetting::prepareExchange(const LiquidTexture& texture, const WettingEnvironment& environment,
+                                                    double dt, bool absorbing, bool evaporating) {
   const std::size_t n = px_.size();
   const Eigen::Matrix3d& rotation = environment.pose.rotation;
   const Eigen::Vector3d& translation = environment.pose.translation;
   const LiquidSurface* liquid = absorbing ? environment.liquid : nullptr;
-  // Only the world height matters under a flat surface: one row of the pose, in float.
-  const float r0 = static_cast<float>(rotation(1, 0)), r1 = static_cast<float>(rotation(1, 1)),
-              r2 = static_cast<float>(rotation(1, 2)), ty = static_cast<float>(translation.y());
   const auto* flat = dynamic_cast<const FlatSurface*>(liquid);
-  const double surfaceHeight = flat ? flat->height() : 0.0;
-  const double pressurePerDepth = flat ? flat->density() * environment.gravity : 0.0;
-  const double highest = liquid ? (liquid->hasFreeSurface() ? liquid->heightRange(environment.time).second
-                                                            : std::numeric_limits<double>::infinity())
-                                : -std::numeric_limits<double>::infinity();
-  const bool freeSurface = liquid && liquid->hasFreeSurface();
   const double flowResistance = settings_.viscosity * texture.layerThickness;  // mu L (Pa s m)
 
   // Sources in the body frame, once per step (kept in a member: the step allocates nothing).
@@ -335,96 +458,159 @@ void Wetting::exchange(LiquidTexture& texture, const WettingEnvironment& environ
                          source.pigment});
     }
 
+  // Any other surface than a flat one: its pressure and the submerged mask per texel first, in
+  // the scalar pass its virtual call needs; the lane pass then reads them.
+  if constexpr (!Flat) {
+    const double highest = liquid->hasFreeSurface() ? liquid->heightRange(environment.time).second
+                                                    : std::numeric_limits<double>::infinity();
+    const bool freeSurface = liquid->hasFreeSurface();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d world = rotation * Eigen::Vector3d(px_[i], py_[i], pz_[i]) + translation;
+      double pressure = 0.0;
+      bool under = false;
+      if (world.y() <= highest) {
+        pressure = liquid->pressure(world, environment.time, environment.gravity);
+        under = !freeSurface || pressure > 0.0;
+      }
+      pressure_[i] = static_cast<float>(std::max(pressure, 0.0));
+      submerged_[i] = under ? 1 : 0;
+    }
+  }
+
+  ExchangeConstants k;
+  k.absorbing = absorbing;
+  k.withLiquid = liquid != nullptr;
+  // Only the world height matters under a flat surface: one row of the pose, in float. A flat
+  // surface's pressure is rho g depth (FlatSurface::pressure; the class is final).
+  k.heightRow[0] = static_cast<float>(rotation(1, 0));
+  k.heightRow[1] = static_cast<float>(rotation(1, 1));
+  k.heightRow[2] = static_cast<float>(rotation(1, 2));
+  k.heightRow[3] = static_cast<float>(translation.y() - (flat ? flat->height() : 0.0));
+  k.pressurePerDepth = flat ? static_cast<float>(flat->density() * environment.gravity) : 0.0f;
+  k.capillary = static_cast<float>(settings_.capillaryPressure);
+  k.darcyFactor = static_cast<float>(dt / flowResistance);  // s / (Pa s m)
   const double rate = evaporating && dt > 0.0 ? settings_.evaporationRate() : 0.0;  // m/s, constant-rate stage
-  // The per-texel arithmetic is in float, the precision the contents are stored in; the volumes
-  // moved are summed in double from the stored values, so the balance stays exact.
-  const float evaporationDepth = static_cast<float>(rate * dt);
-  const float criticalSaturation = static_cast<float>(settings_.criticalSaturation);
-  const float darcyFactor = static_cast<float>(dt / flowResistance);  // s / (Pa s m)
-  const float capillary = static_cast<float>(settings_.capillaryPressure);
-  const float* capacity = texture.capacity.data();
-  const float* permeability = texture.permeability.data();
+  k.evaporationDepth = static_cast<float>(rate * dt);
+  k.criticalSaturation = static_cast<float>(settings_.criticalSaturation);
+  return k;
+}
+
+template <bool Flat>
+void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, std::size_t begin, std::size_t end,
+                            ExchangeTotals& totals) {
+  // The per-texel arithmetic is in float, the precision the contents are stored in, four texels
+  // at a time (SSE2 lanes; the stage of a texel is selected, not branched to); the volumes moved
+  // are summed in double from the stored values, so the balance stays exact to float rounding.
+  const Lanes evaporationDepth = splat(k.evaporationDepth), criticalSaturation = splat(k.criticalSaturation);
+  const Lanes darcyFactor = splat(k.darcyFactor), capillary = splat(k.capillary), zero = splat(0.0f), one = splat(1.0f);
   float* phi = texture.liquid.data();
   float* pigment = texture.pigment.empty() ? nullptr : texture.pigment.data();
-  const double* area = adjacency_.area.data();
+  const float* capacity = texture.capacity.data();
+  const float* permeability = texture.permeability.data();
   std::uint8_t* submerged = submerged_.data();
   double absorbed = 0.0, evaporated = 0.0;
-  std::size_t submergedCount = 0;
-
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!(area[i] > 0.0)) continue;
-    const float held = phi[i];
-    const float full = capacity[i];
-    // Under the liquid?
-    bool under = false;
-    double pressure = 0.0;
-    if (liquid) {
-      if constexpr (Flat) {
-        const float y = r0 * px_[i] + r1 * py_[i] + r2 * pz_[i] + ty;
-        // A flat surface's pressure is rho g depth (FlatSurface::pressure; the class is final).
-        pressure = pressurePerDepth * (surfaceHeight - static_cast<double>(y));
-        under = pressure > 0.0;
-      } else {
-        const Eigen::Vector3d world = rotation * Eigen::Vector3d(px_[i], py_[i], pz_[i]) + translation;
-        if (world.y() <= highest) {
-          pressure = liquid->pressure(world, environment.time, environment.gravity);
-          under = !freeSurface || pressure > 0.0;
-        }
-      }
-    } else if (!absorbing) {
-      under = submerged[i] != 0;  // evaporation alone: the mask of the last absorption
+  Lanes absorbedLanes = zero, evaporatedLanes = zero;  // m^3
+  std::int64_t submergedCount = 0;
+  const bool evaporating = k.evaporationDepth > 0.0f;
+  // A block of `count` texels from i; called with a constant 4 for whole blocks, so that the
+  // loads are single moves there, and once with the rest.
+  auto block = [&](std::size_t i, std::size_t count) __attribute__((always_inline)) {
+    const Lanes held = load(phi + i, count), full = load(capacity + i, count), area = load(area_.data() + i, count);
+    const LaneMask active = area > zero;
+    // Under the liquid? (Evaporation alone: the mask of the last absorption.)
+    LaneMask under;
+    Lanes pressure = zero;
+    if (!k.withLiquid) {
+      under = k.absorbing ? LaneMask{} : loadMask(submerged + i, count);
+    } else if constexpr (Flat) {
+      const Lanes relativeHeight = splat(k.heightRow[0]) * load(px_.data() + i, count) +
+                                   splat(k.heightRow[1]) * load(py_.data() + i, count) +
+                                   splat(k.heightRow[2]) * load(pz_.data() + i, count) + splat(k.heightRow[3]);
+      pressure = splat(-k.pressurePerDepth) * relativeHeight;
+      under = pressure > zero;
+    } else {
+      pressure = load(pressure_.data() + i, count);
+      under = loadMask(submerged + i, count);
     }
-    if (absorbing) submerged[i] = under ? 1 : 0;
-    if (under) {
-      ++submergedCount;
-      if (!absorbing || !(full > held)) continue;
+    under &= active;
+    if (k.absorbing) storeMask(submerged + i, count, under);
+    submergedCount -= horizontalSum(under);
+    Lanes current = held;
+    // Blocks wholly under the liquid or wholly in the air (most are: the waterline crosses few)
+    // skip the other stage's arithmetic.
+    const LaneMask air = active & ~under;
+    const bool anyUnder = any(under), anyAir = any(air);
+    // One division per block, shared by Darcy's time constant and the falling-rate stage.
+    const Lanes inverseFull = one / select(full > zero, full, one);
+    if (k.absorbing && anyUnder) {
       // Darcy against the pores' back-pressure: exact exponential approach to capacity.
-      const float drive = static_cast<float>(std::max(pressure, 0.0)) + capillary;
-      const float exponent = permeability[i] * drive * darcyFactor / full;  // dt / tau
-      const float stored = std::min(full, held + (full - held) * oneMinusExpNegative(exponent));
-      absorbed += (static_cast<double>(stored) - held) * area[i];
-      phi[i] = stored;
-      continue;
+      const Lanes drive = select(pressure > zero, pressure, zero) + capillary;
+      const Lanes exponent = load(permeability + i, count) * drive * darcyFactor * inverseFull;  // dt / tau
+      const Lanes darcy = minimum(full, held + (full - held) * oneMinusExpNegative(exponent));
+      current = select(under & (full > held), darcy, held);
     }
-    // In the air: the sources' supply up to capacity (the rest runs off), then drying.
-    float current = held;
-    for (const BodySource& source : sources) {
-      float supply;
-      if (source.rain) {
-        // Rain per horizontal area lands on the texel's projection across the fall direction.
-        const float facing = nx_[i] * source.up.x() + ny_[i] * source.up.y() + nz_[i] * source.up.z();
-        if (facing <= 0.0f) continue;
-        supply = source.depth * facing;
-      } else {
-        const float dx = px_[i] - source.centre.x(), dy = py_[i] - source.centre.y(), dz = pz_[i] - source.centre.z();
-        if (dx * dx + dy * dy + dz * dz > source.radiusSquared) continue;
-        supply = source.depth;
+    if (k.absorbing && anyAir) {
+      // In the air: the sources' supply up to capacity (the rest runs off).
+      for (const BodySource& source : bodySources_) {
+        Lanes supply;
+        if (source.rain) {
+          // Rain per horizontal area lands on the texel's projection across the fall direction.
+          const Lanes facing = splat(source.up.x()) * load(nx_.data() + i, count) +
+                               splat(source.up.y()) * load(ny_.data() + i, count) +
+                               splat(source.up.z()) * load(nz_.data() + i, count);
+          supply = select(facing > zero, splat(source.depth) * facing, zero);
+        } else {
+          const Lanes dx = load(px_.data() + i, count) - splat(source.centre.x());
+          const Lanes dy = load(py_.data() + i, count) - splat(source.centre.y());
+          const Lanes dz = load(pz_.data() + i, count) - splat(source.centre.z());
+          supply = select(dx * dx + dy * dy + dz * dz <= splat(source.radiusSquared), splat(source.depth), zero);
+        }
+        const Lanes stored = minimum(current + supply, full);
+        const LaneMask takes = air & (stored > current);
+        if (pigment) {
+          const Lanes carried = (stored - current) * splat(static_cast<float>(source.pigment));
+          store(pigment + i, count, load(pigment + i, count) + select(takes, carried, zero));
+        }
+        current = select(takes, stored, current);
       }
-      const float stored = std::min(current + supply, full);
-      if (!(stored > current)) continue;
-      if (pigment) pigment[i] += static_cast<float>((static_cast<double>(stored) - current) * source.pigment);
-      current = stored;
     }
-    if (current != held) {
-      absorbed += (static_cast<double>(current) - held) * area[i];
-      phi[i] = current;
+    absorbedLanes += (current - held) * area;
+    if (evaporating && anyAir) {
+      // Constant rate through the whole step while the content stays above the critical one;
+      // otherwise constant rate until it reaches it (none when it starts below), then first
+      // order for the rest of the step (Hall and Hoff's two stages, both integrated exactly).
+      const Lanes critical = criticalSaturation * full;
+      const Lanes constantNext = current - evaporationDepth;
+      const LaneMask hasCritical = critical > zero;
+      const Lanes inverseCritical = select(hasCritical, inverseFull * splat(1.0f / k.criticalSaturation), one);
+      const Lanes above = current - critical;
+      const Lanes fallingExponent = (evaporationDepth - select(above > zero, above, zero)) * inverseCritical;
+      const Lanes falling = minimum(current, critical) * expNegative(fallingExponent);
+      const Lanes constant = select(constantNext > zero, constantNext, zero);
+      const Lanes dried = select((constantNext >= critical) | ~hasCritical, constant, falling);
+      const Lanes next = select(active & ~under, dried, current);
+      evaporatedLanes += (current - next) * area;
+      current = next;
     }
-    if (!(evaporationDepth > 0.0f)) continue;
-    // Written without branches (the stage changes from texel to texel): constant rate through the
-    // whole step while the content stays above the critical one; otherwise constant rate until it
-    // reaches it (none when it starts below), then first order for the rest of the step.
-    const float critical = criticalSaturation * full;
-    const float constantNext = current - evaporationDepth;
-    const float safeCritical = critical > 0.0f ? critical : 1.0f;
-    const float fallingExponent = (evaporationDepth - std::max(0.0f, current - critical)) / safeCritical;
-    const float falling = std::min(current, critical) * expNegative(std::max(0.0f, fallingExponent));
-    const float next = constantNext >= critical || critical <= 0.0f ? std::max(0.0f, constantNext) : falling;
-    evaporated += (static_cast<double>(current) - next) * area[i];
-    phi[i] = next;
+    store(phi + i, count, current);
+  };
+  // The float lane sums go to double every 16 blocks: at most 16 float roundings (1e-6
+  // relative) in any change counted.
+  constexpr std::size_t kFlush = 16 * kLaneCount;
+  std::size_t i = begin;
+  for (; i + kLaneCount <= end;) {
+    const std::size_t stop = std::min(end - (end - i) % kLaneCount, i + kFlush);
+    for (; i < stop; i += kLaneCount) block(i, kLaneCount);
+    absorbed += volumeSum(absorbedLanes);
+    evaporated += volumeSum(evaporatedLanes);
+    absorbedLanes = evaporatedLanes = zero;
   }
-  report.absorbed = absorbed;
-  report.evaporated = evaporated;
-  report.submergedTexels = submergedCount;
+  if (i < end) block(i, end - i);
+  absorbed += volumeSum(absorbedLanes);
+  evaporated += volumeSum(evaporatedLanes);
+  totals.absorbed += absorbed;
+  totals.evaporated += evaporated;
+  totals.submerged += static_cast<std::size_t>(submergedCount);
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {
@@ -452,51 +638,80 @@ void Wetting::spreadGroups(LiquidTexture& texture) const {
 }
 
 int Wetting::diffuse(LiquidTexture& texture, double dt) {
-  if (!(dt > 0.0) || pairFirst_.empty() || !(settings_.diffusivity > 0.0)) return 0;
+  const int substeps = explicitSubsteps(dt);
+  if (substeps == 0) return 0;
   poolGroups(texture);
-  const double substeps = std::ceil(dt / stableStep_);
-  int count = 0;
-  if (substeps <= settings_.maxExplicitSubsteps) {
-    count = std::max(1, static_cast<int>(substeps));
-    for (int k = 0; k < count; ++k) diffuseExplicit(texture, dt / count);
-  } else {
+  if (substeps > 0)
+    for (int k = 0; k < substeps; ++k) diffuseExplicit(texture, dt / substeps);
+  else
     diffuseImplicit(texture, dt);
-  }
   spreadGroups(texture);
-  return count;
+  return std::max(substeps, 0);
 }
 
 void Wetting::diffuseExplicit(LiquidTexture& texture, double dt) {
-  const std::size_t pairs = pairConductance_.size();
-  const std::uint32_t* first = pairFirst_.data();
-  const std::uint32_t* second = pairSecond_.data();
-  const float* conductance = pairConductance_.data();
+  if (texture.pigment.empty())
+    sweep<false>(texture, static_cast<float>(dt), [](std::size_t) {});
+  else
+    sweep<true>(texture, static_cast<float>(dt), [](std::size_t) {});
+}
+
+template <bool WithPigment, class Ahead>
+void Wetting::sweep(LiquidTexture& texture, float step, Ahead&& ahead) {
+  // One forward pass: texel i receives, from a ring, the fluxes its lower neighbours sent it,
+  // sends its own to its higher neighbours (from the contents before this sub-step: theirs are not
+  // yet updated, its own is updated only now) and is then final. Each pair's flux is formed once
+  // and moved with opposite signs, so the volume is conserved to the rounding of the sums.
+  const std::size_t n = upperStart_.size() - 1;
+  const std::uint32_t* start = upperStart_.data();
+  const std::uint32_t* neighbour = upperNeighbour_.data();
+  const float* conductance = upperConductance_.data();
+  const float* next = nextConductance_.data();
+  const float* inverseArea = inverseNodeArea_.data();
   float* phi = texture.liquid.data();
-  float* delta = delta_.data();
-  const float step = static_cast<float>(dt);
-  const bool withPigment = !texture.pigment.empty();
-  if (withPigment) pigmentDelta_.assign(delta_.size(), 0.0f);
-  for (std::size_t p = 0; p < pairs; ++p) {
-    const std::uint32_t i = first[p], j = second[p];
-    const float flux = step * conductance[p] * (phi[i] - phi[j]);  // m^3 from i to j
-    delta[i] -= flux;
-    delta[j] += flux;
-    if (withPigment) {
-      // The pigment travels with the liquid, at the concentration of the texel it leaves (upwind).
-      const std::uint32_t from = flux > 0.0f ? i : j;
-      const float concentration = phi[from] > 0.0f ? texture.pigment[from] / phi[from] : 0.0f;
-      pigmentDelta_[i] -= flux * concentration;
-      pigmentDelta_[j] += flux * concentration;
+  float* pigment = WithPigment ? texture.pigment.data() : nullptr;
+  float* ring = ring_.data();
+  float* pigmentRing = pigmentRing_.data();
+  const std::size_t mask = ring_.size() - 1;
+  // The pigment travels with the liquid, at the concentration of the texel it leaves (upwind).
+  auto pigmentFlux = [&](std::size_t i, std::size_t j, float flux) {
+    const float fromPhi = flux > 0.0f ? phi[i] : phi[j], fromPigment = flux > 0.0f ? pigment[i] : pigment[j];
+    return flux * (fromPhi > 0.0f ? fromPigment / fromPhi : 0.0f);
+  };
+  // The flux to the next texel (the pair most texels have) is carried in a register: through
+  // the ring it would make every texel wait for the previous one's store.
+  float carried = 0.0f, pigmentCarried = 0.0f;
+  constexpr std::size_t kChunk = 256;
+  for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
+    ahead(std::min(n, chunk + kChunk));
+    for (std::size_t i = chunk; i < std::min(n, chunk + kChunk); ++i) {
+      const float phiI = phi[i];
+      const float toNext = step * next[i] * (phiI - phi[std::min(i + 1, n - 1)]);  // 0 without that pair
+      float delta = ring[i & mask] + carried - toNext;
+      ring[i & mask] = 0.0f;
+      carried = toNext;
+      float pigmentDelta = 0.0f;
+      if constexpr (WithPigment) {
+        const float moved = i + 1 < n ? pigmentFlux(i, i + 1, toNext) : 0.0f;
+        pigmentDelta = pigmentRing[i & mask] + pigmentCarried - moved;
+        pigmentRing[i & mask] = 0.0f;
+        pigmentCarried = moved;
+      }
+      for (std::uint32_t p = start[i]; p < start[i + 1]; ++p) {
+        const std::uint32_t j = neighbour[p];
+        const float flux = step * conductance[p] * (phiI - phi[j]);  // m^3 from i to j
+        delta -= flux;
+        ring[j & mask] += flux;
+        if constexpr (WithPigment) {
+          const float moved = pigmentFlux(i, j, flux);
+          pigmentDelta -= moved;
+          pigmentRing[j & mask] += moved;
+        }
+      }
+      phi[i] = std::max(0.0f, phiI + delta * inverseArea[i]);
+      if constexpr (WithPigment) pigment[i] = std::max(0.0f, pigment[i] + pigmentDelta * inverseArea[i]);
     }
   }
-  const std::size_t n = delta_.size();
-  const float* inverseArea = inverseNodeArea_.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    phi[i] = std::max(0.0f, phi[i] + delta[i] * inverseArea[i]);
-    delta[i] = 0.0f;
-  }
-  if (withPigment)
-    for (std::size_t i = 0; i < n; ++i) texture.pigment[i] = std::max(0.0f, texture.pigment[i] + pigmentDelta_[i] * inverseArea[i]);
 }
 
 void Wetting::diffuseImplicit(LiquidTexture& texture, double dt) {
@@ -525,22 +740,27 @@ void Wetting::diffuseImplicit(LiquidTexture& texture, double dt) {
     system.solver.compute(system.matrix);
     system.dt = dt;
   }
-  Eigen::VectorXd rhs(static_cast<Eigen::Index>(n)), start(static_cast<Eigen::Index>(n));
+  system.rhs.resize(static_cast<Eigen::Index>(n));
+  system.start.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) {
-    start[static_cast<Eigen::Index>(i)] = texture.liquid[i];
-    rhs[static_cast<Eigen::Index>(i)] = (nodeArea_[i] > 0.0 ? nodeArea_[i] : 1.0) * texture.liquid[i];
+    system.start[static_cast<Eigen::Index>(i)] = texture.liquid[i];
+    system.rhs[static_cast<Eigen::Index>(i)] = (nodeArea_[i] > 0.0 ? nodeArea_[i] : 1.0) * texture.liquid[i];
   }
-  system.solution = system.solver.solveWithGuess(rhs, start);
-  std::vector<double> flux(pairFirst_.size());
-  for (std::size_t p = 0; p < flux.size(); ++p)
-    flux[p] = dt * settings_.diffusivity * pairGeometric_[p] *
-              (system.solution[pairFirst_[p]] - system.solution[pairSecond_[p]]);
-  applyPairFluxes(texture, flux);
+  system.solution = system.solver.solveWithGuess(system.rhs, system.start);
+  system.flux.resize(pairFirst_.size());
+  for (std::size_t p = 0; p < system.flux.size(); ++p)
+    system.flux[p] = dt * settings_.diffusivity * pairGeometric_[p] *
+                     (system.solution[pairFirst_[p]] - system.solution[pairSecond_[p]]);
+  applyPairFluxes(texture);
 }
 
-void Wetting::applyPairFluxes(LiquidTexture& texture, const std::vector<double>& flux) {
+void Wetting::applyPairFluxes(LiquidTexture& texture) {
   const std::size_t n = nodeArea_.size();
-  std::vector<double> volume(n), pigment(texture.pigment.size());
+  std::vector<double>& flux = implicit_->flux;
+  std::vector<double>& volume = implicit_->volume;
+  std::vector<double>& pigment = implicit_->pigment;
+  volume.resize(n);
+  pigment.resize(texture.pigment.size());
   for (std::size_t i = 0; i < n; ++i) volume[i] = texture.liquid[i] * nodeArea_[i];
   for (std::size_t i = 0; i < pigment.size(); ++i) pigment[i] = texture.pigment[i] * nodeArea_[i];
   for (std::size_t p = 0; p < flux.size(); ++p) {

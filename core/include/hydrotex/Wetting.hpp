@@ -122,15 +122,41 @@ class Wetting {
 
  private:
   Wetting();
+  // Per-step values of the absorption / evaporation pass (float, the precision of the contents).
+  struct ExchangeConstants {
+    bool absorbing = false, withLiquid = false;
+    float heightRow[4] = {0, 0, 0, 0};  // second row of the pose, offset by the flat surface's height
+    float pressurePerDepth = 0.0f;      // rho g (Pa/m)
+    float capillary = 0.0f;             // Pa
+    float darcyFactor = 0.0f;           // dt / (mu L)
+    float evaporationDepth = 0.0f;      // constant-rate evaporation over the step (m)
+    float criticalSaturation = 0.0f;
+  };
+  struct ExchangeTotals {
+    double absorbed = 0.0, evaporated = 0.0;
+    std::size_t submerged = 0;
+  };
   void buildDiffusionGroups();
   template <bool Flat>
   void exchange(LiquidTexture& texture, const WettingEnvironment& environment, double dt, bool absorbing,
                 bool evaporating, WettingStepReport& report);
+  template <bool Flat>
+  ExchangeConstants prepareExchange(const LiquidTexture& texture, const WettingEnvironment& environment, double dt,
+                                    bool absorbing, bool evaporating);
+  int explicitSubsteps(double dt) const;  // 0: no diffusion, -1: implicit
+  template <bool Flat>
+  void fusedStep(LiquidTexture& texture, const WettingEnvironment& environment, double dt, int substeps,
+                 WettingStepReport& report);
+  template <bool Flat>
+  void exchangeRange(LiquidTexture& texture, const ExchangeConstants& constants, std::size_t begin, std::size_t end,
+                     ExchangeTotals& totals);
   void poolGroups(LiquidTexture& texture) const;
   void spreadGroups(LiquidTexture& texture) const;
   void diffuseExplicit(LiquidTexture& texture, double dt);
+  template <bool WithPigment, class Ahead>
+  void sweep(LiquidTexture& texture, float step, Ahead&& ahead);
   void diffuseImplicit(LiquidTexture& texture, double dt);
-  void applyPairFluxes(LiquidTexture& texture, const std::vector<double>& flux);
+  void applyPairFluxes(LiquidTexture& texture);
 
   struct ImplicitSystem;
   TexelAdjacency adjacency_;
@@ -138,6 +164,8 @@ class Wetting {
   // Texel centroids and unit normals (body frame), one array per coordinate so that the per-texel
   // pass streams them; normals are zero where the area vector vanishes.
   std::vector<float> px_, py_, pz_, nx_, ny_, nz_;
+  std::vector<float> area_;                  // texel areas in float for the per-texel pass (m^2)
+  std::vector<float> pressure_;              // scratch: liquid pressure per texel under a non-flat surface (Pa)
   std::vector<std::uint8_t> submerged_;
   // Diffusion runs on groups of texels: most are alone; a merged group's liquid is pooled into its
   // first texel, diffused there with the group's area, and copied back to every member.
@@ -147,11 +175,13 @@ class Wetting {
   std::vector<float> inverseNodeArea_;       // 1 / nodeArea_, 0 where nodeArea_ is 0 (1/m^2)
   std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
   std::vector<double> pairGeometric_;        // g_ij of those pairs (dimensionless)
-  std::vector<float> pairConductance_;       // D g_ij (m^2/s)
+  std::vector<float> nextConductance_;       // D g of the pair (i, i + 1), 0 without one (m^2/s)
+  std::vector<std::uint32_t> upperStart_;    // per holding texel: CSR range of its other pairs to higher indices
+  std::vector<std::uint32_t> upperNeighbour_;  // the other (higher) texel of each
+  std::vector<float> upperConductance_;      // D g_ij of each (m^2/s)
+  std::vector<float> ring_, pigmentRing_;    // scratch: fluxes sent ahead in a sweep (m^3), power-of-two size
   struct BodySource;
   std::vector<BodySource> bodySources_;      // scratch: this step's sources in the body frame
-  std::vector<float> delta_;                 // scratch: volume change per texel (m^3)
-  std::vector<float> pigmentDelta_;
   std::unique_ptr<ImplicitSystem> implicit_;
   double stableStep_ = 0.0;
 };
