@@ -2,6 +2,9 @@
 //   hydrostatics: 1,000 bodies (sphere, 256^2 bake each), flat surface, one batched step
 //   mass: one body at 1024^2, uniform density, and with a density map uploaded each call
 //   bake / upload: the CPU's exact bake and its one-time upload (why the bake is not rasterized)
+//   waves: 100 of the bodies under three Gerstner waves, one batched step (texel by texel)
+//   bake vs upload vs step, 256^2 and 1024^2: bakeSurface + evaluateSurface of one body, its
+//     upload (addBody and the table rebuild its first step makes), one hydrostatics step of it
 // Beside each GPU figure the bandwidth floor: bytes the pass must read over the memory bandwidth
 // (argv[2] in GB/s; default: measured host read bandwidth, which is what llvmpipe reads from).
 // Prints a table and writes CSV (argv[1], default bench_gpu.csv):
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
   });
 #endif
 
-  std::vector<std::vector<HydrostaticsResult>> answers;
+  std::vector<std::vector<HydrostaticsResult>> answers, waveAnswers;
   for (auto& make : makers) {
     std::unique_ptr<ComputeBackend> backend = make();
     if (!backend) continue;
@@ -149,6 +152,34 @@ int main(int argc, char** argv) {
                     kBodies * small.textures.size(), ms, runs, bytesRead});
     answers.push_back(results);
 
+    // Waves: the pressure integrated texel by texel over every chunk under the crests' height
+    // (no pre-summed moments), the surface height a Newton search per texel on either backend:
+    // 100 bodies keep the CPU run short.
+    {
+      const GerstnerWaves waves({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.2), 0.0, 0.6},
+                                 GerstnerWave{0.15, 5.0, Eigen::Vector2d(-0.3, 1.0), 1.0, 0.7},
+                                 GerstnerWave{0.05, 2.0, Eigen::Vector2d(0.6, -0.8), 2.0, 0.5}},
+                                0.0, 1025.0);
+      constexpr std::size_t kWaveBodies = 100;
+      std::vector<BackendHydrostaticsQuery> some(queries.begin(), queries.begin() + kWaveBodies);
+      for (BackendHydrostaticsQuery& q : some) q.query.time = 2.5;
+      std::vector<HydrostaticsResult> waveResults(kWaveBodies);
+      status = backend->hydrostatics(waves, some, waveResults);  // warm-up
+      if (!status) {
+        std::fprintf(stderr, "bench_gpu: %s\n", status.error().message.c_str());
+        return 1;
+      }
+      const double wavesMs = medianMs(5, [&] { status = backend->hydrostatics(waves, some, waveResults); });
+      double waveBytes = 0.0;
+#if defined(HYDROTEX_WITH_GPU)
+      if (Expected<gpu::GlHydrostaticsStatistics> stats = gpu::lastHydrostaticsStatistics(*backend))
+        waveBytes = stats->bytesRead;
+#endif
+      rows.push_back({name, renderer, "hydrostatics 100 x 256^2, 3 Gerstner waves", kWaveBodies,
+                      kWaveBodies * small.textures.size(), wavesMs, 5, waveBytes});
+      waveAnswers.push_back(waveResults);
+    }
+
     const BackendBodyId id = BackendBodyId(backend->addBody(big.bake, big.textures, Eigen::Vector3d::Zero()).value());
     TextureMassModel uniform;
     MassProperties mass;
@@ -161,6 +192,45 @@ int main(int argc, char** argv) {
     const double mapMs = medianMs(15, [&] { (void)backend->massProperties({&id, 1}, {&mapped, 1}, {&mass, 1}); });
     rows.push_back({name, renderer, "mass 1024^2 one body, density map uploaded", 1, big.textures.size(), mapMs, 15,
                     name == "cpu" ? 0.0 : 20.0 * double(big.textures.size())});
+  }
+
+  // Bake on the CPU, uploaded once, or bake on the GPU (issue 7: "measure and choose"): per
+  // resolution the exact bake and evaluation of one body, the upload of their result and one
+  // per-step hydrostatics pass of that body (floating sphere, flat water) on each backend.
+  for (const BodyGeometry* body : {&small, &big}) {
+    const std::string res = std::to_string(body->bake.width) + "^2";
+    BakeSettings settings;
+    settings.width = body->bake.width;
+    settings.height = body->bake.height;
+    settings.tileSize = body->bake.tileSize;
+    const double bakeMs = medianMs(3, [&] {
+      Expected<SurfaceBake> bake = bakeSurface(body->mesh, body->atlas.layout, settings);
+      if (bake) (void)evaluateSurface(*bake, body->mesh, body->atlas.layout);
+    });
+    rows.push_back({"cpu", "CPU", "bake+evaluate " + res + " (once per body)", 1, body->textures.size(), bakeMs, 3, 0.0});
+    BackendHydrostaticsQuery floating;
+    floating.query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(10.0, 20.0, 5.0), Eigen::Vector3d(0.0, 0.1, 0.0));
+    HydrostaticsResult one;
+    for (auto& make : makers) {
+      std::unique_ptr<ComputeBackend> backend = make();
+      if (!backend) continue;
+      const auto added = backend->addBody(body->bake, body->textures, Eigen::Vector3d::Zero());
+      if (!added) return 1;
+      floating.body = *added;
+      (void)backend->hydrostatics(water, {&floating, 1}, {&one, 1});
+      const double stepMs = medianMs(7, [&] { (void)backend->hydrostatics(water, {&floating, 1}, {&one, 1}); });
+      // Each upload run adds another copy of the body (its first step rebuilds the tables).
+      const double uploadAndStepMs = medianMs(3, [&] {
+        const auto copy = backend->addBody(body->bake, body->textures, Eigen::Vector3d::Zero());
+        BackendHydrostaticsQuery q = floating;
+        q.body = copy ? *copy : floating.body;
+        (void)backend->hydrostatics(water, {&q, 1}, {&one, 1});
+      });
+      rows.push_back({backend->name(), backend->renderer(), "upload " + res + " (addBody + first step - step)", 1,
+                      body->textures.size(), std::max(0.0, uploadAndStepMs - stepMs), 3, 0.0});
+      rows.push_back({backend->name(), backend->renderer(), "hydrostatics one body " + res + " (per step)", 1,
+                      body->textures.size(), stepMs, 7, 0.0});
+    }
   }
 
   // Deforming body at 1024^2 on the GPU: vertices up, re-evaluation, then one hydrostatics query
@@ -249,6 +319,19 @@ int main(int argc, char** argv) {
     }
     std::printf("gpu vs cpu over the 1000 bodies: volume %.2e relative, centre of buoyancy %.2e of the size\n",
                 worstVolume, worstCentre);
+  }
+  if (waveAnswers.size() == 2) {
+    double worstVolume = 0.0, worstForce = 0.0, worstCentre = 0.0;
+    for (std::size_t i = 0; i < waveAnswers[0].size(); ++i) {
+      const HydrostaticsResult& c = waveAnswers[0][i];
+      const HydrostaticsResult& g = waveAnswers[1][i];
+      if (!(c.submergedVolume > 0.0)) continue;
+      worstVolume = std::max(worstVolume, std::abs(g.submergedVolume - c.submergedVolume) / c.submergedVolume);
+      worstForce = std::max(worstForce, (g.buoyancyForce - c.buoyancyForce).norm() / c.buoyancyForce.norm());
+      worstCentre = std::max(worstCentre, (g.centerOfBuoyancy - c.centerOfBuoyancy).norm() / 1.0);
+    }
+    std::printf("gpu vs cpu under waves (100 bodies): volume %.2e, force %.2e relative, centre %.2e of the size\n",
+                worstVolume, worstForce, worstCentre);
   }
 
   FILE* csv = std::fopen(csvPath.c_str(), "w");

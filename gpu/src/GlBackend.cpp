@@ -4,7 +4,10 @@
 /// the poses (or densities), runs one chunk pass per storage segment for all bodies at once, one
 /// final double pass per body, and reads the per-body sums back once. The sums are those of
 /// core's texture path (HydrostaticSums.hpp, TextureMassProperties.cpp) and are finished by the
-/// same code (finishFlatHydrostatics) so that the backends differ only by float rounding.
+/// same code (finishFlatHydrostatics; finishPressureHydrostatics under waves, grids and media) so
+/// that the backends differ only by float rounding. Everything large in world units (a body's
+/// position, the time, a wave's phase, a grid's origin) is reduced about each body's frame origin
+/// in double on the host; the shaders' float sees metres of the body's own size.
 /// Driver quirks handled here are marked "Quirk".
 
 #include "hydrotex/gpu/GlBackend.hpp"

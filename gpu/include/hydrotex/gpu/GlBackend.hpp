@@ -6,6 +6,20 @@
 /// properties, many bodies per dispatch, float per-texel work and per-workgroup float partials,
 /// then a final pass in double (on the GPU when GL_ARB_gpu_shader_fp64 is there, else on the CPU
 /// over the partials), results read back once per call.
+///
+/// Why the bake stays on the CPU, uploaded once (issue 7: "measure and choose"). bench_gpu, one
+/// sphere, Mesa llvmpipe on a shared 2-core host (load 7; the range of two runs), ms:
+///
+///   resolution | CPU bake + evaluate (once) | GL upload (once) | GL step   | CPU step
+///   256^2      |  17 - 21                   |   3.1 - 11.6     | 0.31-0.39 | 0.013
+///   1024^2     | 124 - 152                  | 124 - 148        | 4.0 - 4.1 | 0.063-0.066
+///
+/// The bake is paid once per body (a deforming mesh keeps its bake and is re-evaluated from it on
+/// the GPU each step: enableGpuDeformation), so a GPU bake could only save a one-time cost, which
+/// at 1024^2 the upload of its result already equals. A rasterized bake would also lose the exact
+/// coverage (texel squares clipped against UV triangles: exact volumes to 1e-6, SurfaceBake.hpp)
+/// unless it clipped polygons per texel in a shader; the per-step passes, where the time goes,
+/// are on the GPU either way. Re-measure the step on a real GPU with scripts/bundle-gpu-bench.sh.
 
 #include <memory>
 #include <vector>
