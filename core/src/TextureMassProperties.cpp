@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "hydrotex/MassProperties.hpp"
 #include "Vector3Lanes.hpp"
@@ -80,14 +81,13 @@ void addTo(double (&sums)[N], const double* terms) {
 }
 
 // One block of TextureMassIntegrator::update as structure-of-arrays (in L1 cache), filled from
-// the packed textures, and the per-texel patch covariances computed from it.
+// the packed textures, and the per-texel patch covariance scale computed from it.
 struct BlockScratch {
   alignas(64) float ax[kBlock], ay[kBlock], az[kBlock];   // area vector
   alignas(64) float ux[kBlock], uy[kBlock], uz[kBlock];   // texel edge along u
   alignas(64) float vx[kBlock], vy[kBlock], vz[kBlock];   // texel edge along v
   alignas(64) float area[kBlock];
-  alignas(64) float spanned[kBlock];                      // |eu x ev|
-  alignas(64) float covariance[6][kBlock];                // C: xx yy zz xy xz yz
+  alignas(64) float scale[kBlock];                        // C = scale (eu eu^T + ev ev^T)
 };
 
 // Cone volumes v = (p - c) . A / 3 of one block.
@@ -96,36 +96,31 @@ void coneVolumes(const float* __restrict x, const float* __restrict y, const flo
   for (std::size_t k = 0; k < kBlock; ++k) v[k] = (x[k] * s.ax[k] + y[k] * s.ay[k] + z[k] * s.az[k]) * (1.0f / 3.0f);
 }
 
-// Covariance of each texel's patch about its position, (eu eu^T + ev ev^T) / 12 for a whole flat
-// parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered texel (at
-// most 1; 0 where the edges span nothing). Plain loops over one block: vectorised, branch-free.
-void patchCovariances(BlockScratch& s) {
+// Covariance of each texel's patch about its position, C = (eu eu^T + ev ev^T) / 12 for a whole
+// flat parallelogram, scaled by the covered fraction |A| / |eu x ev| for a partly covered texel
+// (at most 1; 0 where the edges span nothing): the factor in front of the outer products. Plain
+// loops over one block: vectorised, branch-free.
+void patchCovarianceScales(BlockScratch& s) {
   const float* __restrict ux = s.ux;
   const float* __restrict uy = s.uy;
   const float* __restrict uz = s.uz;
   const float* __restrict vx = s.vx;
   const float* __restrict vy = s.vy;
   const float* __restrict vz = s.vz;
-  float* __restrict spanned = s.spanned;
+  const float* __restrict area = s.area;
+  float* __restrict scale = s.scale;
   for (std::size_t k = 0; k < kBlock; ++k) {
     const float crossX = uy[k] * vz[k] - uz[k] * vy[k], crossY = uz[k] * vx[k] - ux[k] * vz[k];
     const float crossZ = ux[k] * vy[k] - uy[k] * vx[k];
-    spanned[k] = crossX * crossX + crossY * crossY + crossZ * crossZ;
+    scale[k] = crossX * crossX + crossY * crossY + crossZ * crossZ;
   }
   // Eigen's packet square root (std::sqrt in a loop keeps a scalar errno path).
-  Eigen::Map<Eigen::Array<float, int(kBlock), 1>> root(spanned);
-  root = root.sqrt();
+  Eigen::Map<Eigen::Array<float, int(kBlock), 1>> spanned(scale);
+  spanned = spanned.sqrt();
   for (std::size_t k = 0; k < kBlock; ++k) {
     // min(area / spanned, 1) without a branch: min(area, spanned) / spanned, and 0 / tiny where
     // the edges span nothing.
-    const float fraction = std::min(s.area[k], spanned[k]) / std::max(spanned[k], std::numeric_limits<float>::min());
-    const float scale = fraction * (1.0f / 12.0f);
-    s.covariance[0][k] = scale * (ux[k] * ux[k] + vx[k] * vx[k]);
-    s.covariance[1][k] = scale * (uy[k] * uy[k] + vy[k] * vy[k]);
-    s.covariance[2][k] = scale * (uz[k] * uz[k] + vz[k] * vz[k]);
-    s.covariance[3][k] = scale * (ux[k] * uy[k] + vx[k] * vy[k]);
-    s.covariance[4][k] = scale * (ux[k] * uz[k] + vx[k] * vz[k]);
-    s.covariance[5][k] = scale * (uy[k] * uz[k] + vy[k] * vz[k]);
+    scale[k] = std::min(area[k], scale[k]) / std::max(scale[k], std::numeric_limits<float>::min()) * (1.0f / 12.0f);
   }
 }
 
@@ -192,9 +187,10 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     const std::size_t filled = begin < count ? std::min(kBlock, count - begin) : 0;
     // The block as structure-of-arrays (the positions go straight to dx_, dy_, dz_); padding
     // texels are zero, and zero area vector and area add nothing.
-    const auto split = [&](const std::vector<Eigen::Vector3f>& packed, float sx, float sy, float sz, float* x, float* y,
-                           float* z) {
-      detail::splitTriples(filled > 0 ? packed[begin].data() : nullptr, filled, sx, sy, sz, x, y, z);
+    const auto split = [&](auto shifted, const std::vector<Eigen::Vector3f>& packed, float sx, float sy, float sz,
+                           float* x, float* y, float* z) {
+      detail::splitTriples<decltype(shifted)::value>(filled > 0 ? packed[begin].data() : nullptr, filled, sx, sy, sz, x,
+                                                     y, z);
       std::fill(x + filled, x + kBlock, 0.0f);
       std::fill(y + filled, y + kBlock, 0.0f);
       std::fill(z + filled, z + kBlock, 0.0f);
@@ -203,18 +199,18 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     float* const y = dy_.data() + begin;
     float* const z = dz_.data() + begin;
     float* const v = volume_.data() + begin;
-    split(textures.position, cx, cy, cz, x, y, z);
-    split(textures.areaVector, 0.0f, 0.0f, 0.0f, scratch.ax, scratch.ay, scratch.az);
-    split(textures.edgeU, 0.0f, 0.0f, 0.0f, scratch.ux, scratch.uy, scratch.uz);
-    split(textures.edgeV, 0.0f, 0.0f, 0.0f, scratch.vx, scratch.vy, scratch.vz);
+    split(std::true_type{}, textures.position, cx, cy, cz, x, y, z);
+    split(std::false_type{}, textures.areaVector, 0.0f, 0.0f, 0.0f, scratch.ax, scratch.ay, scratch.az);
+    split(std::false_type{}, textures.edgeU, 0.0f, 0.0f, 0.0f, scratch.ux, scratch.uy, scratch.uz);
+    split(std::false_type{}, textures.edgeV, 0.0f, 0.0f, 0.0f, scratch.vx, scratch.vy, scratch.vz);
     if (filled > 0) std::copy_n(textures.area.begin() + std::ptrdiff_t(begin), filled, scratch.area);
     std::fill(scratch.area + filled, scratch.area + kBlock, 0.0f);
 
     coneVolumes(x, y, z, scratch, v);
-    patchCovariances(scratch);
+    patchCovarianceScales(scratch);
     // The sums, a few at a time (each in float lanes over the block, then double).
     const float* const a = scratch.area;
-    const auto& c = scratch.covariance;
+    const float* const scale = scratch.scale;
     double blockVolume = 0.0, blockAbs = 0.0, blockArea = 0.0;
     // The enclosed volume is exact up to rounding: double lanes.
     {
@@ -235,13 +231,30 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
             const Chunk vx = cv * cx_, vy = cv * cy_, vz = cv * cz_;
             return Terms<6>{vx * cx_, vy * cy_, vz * cz_, vx * cy_, vx * cz_, vy * cz_};
           }).data());
-    const auto cone = blockSums<6>([&](std::size_t j) {
-      const Chunk w = 0.6f * chunkAt(v, j);
-      return Terms<6>{w * chunkAt(c[0], j), w * chunkAt(c[1], j), w * chunkAt(c[2], j),
-                      w * chunkAt(c[3], j), w * chunkAt(c[4], j), w * chunkAt(c[5], j)};
-    });
-    std::copy(cone.begin(), cone.end(), &blockCovariance_[6 * b]);
-    addTo(covariance, cone.data());
+    // The patch covariances, weighted for the cones (3/5 v) and the shell (a): the outer
+    // products' diagonal (xx yy zz), then the rest (xy xz yz).
+    // `offset` picks the pairs: 0 the diagonal (xx yy zz), 1 the rest (xy yz zx).
+    const auto weightedCovariance = [&](auto offset) {
+      return blockSums<6>([&](std::size_t j) {
+        const Chunk eu[3] = {chunkAt(scratch.ux, j), chunkAt(scratch.uy, j), chunkAt(scratch.uz, j)};
+        const Chunk ev[3] = {chunkAt(scratch.vx, j), chunkAt(scratch.vy, j), chunkAt(scratch.vz, j)};
+        const Chunk k = chunkAt(scale, j), coneWeight = 0.6f * chunkAt(v, j) * k, shellWeight = chunkAt(a, j) * k;
+        constexpr int kOffset = decltype(offset)::value;
+        const Chunk outer[3] = {eu[0] * eu[kOffset % 3] + ev[0] * ev[kOffset % 3],
+                                eu[1] * eu[(1 + kOffset) % 3] + ev[1] * ev[(1 + kOffset) % 3],
+                                eu[2] * eu[(2 + kOffset) % 3] + ev[2] * ev[(2 + kOffset) % 3]};
+        return Terms<6>{coneWeight * outer[0],  coneWeight * outer[1],  coneWeight * outer[2],
+                        shellWeight * outer[0], shellWeight * outer[1], shellWeight * outer[2]};
+      });
+    };
+    const auto diagonal = weightedCovariance(std::integral_constant<int, 0>{});  // xx yy zz
+    const auto across = weightedCovariance(std::integral_constant<int, 1>{});    // xy yz zx
+    // In the xx yy zz xy xz yz order: cones, then the shell's.
+    const double cone[6] = {diagonal[0], diagonal[1], diagonal[2], across[0], across[2], across[1]};
+    const double shellCovariance[6] = {diagonal[3], diagonal[4], diagonal[5], across[3], across[5], across[4]};
+    std::copy(std::begin(cone), std::end(cone), &blockCovariance_[6 * b]);
+    addTo(covariance, cone);
+    addTo(shellSecond, shellCovariance);
     addTo(shellFirst, blockSums<3>([&](std::size_t j) {
             const Chunk ca = chunkAt(a, j);
             return Terms<3>{ca * chunkAt(x, j), ca * chunkAt(y, j), ca * chunkAt(z, j)};
@@ -249,9 +262,7 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     addTo(shellSecond, blockSums<6>([&](std::size_t j) {
             const Chunk ca = chunkAt(a, j), cx_ = chunkAt(x, j), cy_ = chunkAt(y, j), cz_ = chunkAt(z, j);
             const Chunk ax = ca * cx_, ay = ca * cy_, az = ca * cz_;
-            return Terms<6>{ax * cx_ + ca * chunkAt(c[0], j), ay * cy_ + ca * chunkAt(c[1], j),
-                            az * cz_ + ca * chunkAt(c[2], j), ax * cy_ + ca * chunkAt(c[3], j),
-                            ax * cz_ + ca * chunkAt(c[4], j), ay * cz_ + ca * chunkAt(c[5], j)};
+            return Terms<6>{ax * cx_, ay * cy_, az * cz_, ax * cy_, ax * cz_, ay * cz_};
           }).data());
     blockAbsVolume_[b] = blockAbs;
     volumeSum += blockVolume;

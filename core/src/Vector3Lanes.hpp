@@ -13,7 +13,8 @@
 namespace hydrotex::detail {
 
 /// Splits `count` packed triples starting at `packed` into x[], y[], z[] (each `count` long), minus
-/// (sx, sy, sz).
+/// (sx, sy, sz) when Shifted.
+template <bool Shifted>
 inline void splitTriples(const float* packed, std::size_t count, float sx, float sy, float sz, float* x, float* y,
                          float* z) {
   std::size_t i = 0;
@@ -31,9 +32,17 @@ inline void splitTriples(const float* packed, std::size_t count, float sx, float
     const __m128 yHigh = _mm_shuffle_ps(b, c, _MM_SHUFFLE(2, 2, 3, 3));    // y2 y2 y3 y3
     const __m128 zLow = _mm_shuffle_ps(a, b, _MM_SHUFFLE(1, 1, 2, 2));     // z0 z0 z1 z1
     const __m128 zHigh = _mm_shuffle_ps(c, c, _MM_SHUFFLE(3, 3, 0, 0));    // z2 z2 z3 z3
-    _mm_storeu_ps(x + i, _mm_sub_ps(_mm_shuffle_ps(xLow, xHigh, _MM_SHUFFLE(2, 0, 3, 0)), shiftX));
-    _mm_storeu_ps(y + i, _mm_sub_ps(_mm_shuffle_ps(yLow, yHigh, _MM_SHUFFLE(2, 0, 2, 0)), shiftY));
-    _mm_storeu_ps(z + i, _mm_sub_ps(_mm_shuffle_ps(zLow, zHigh, _MM_SHUFFLE(2, 0, 2, 0)), shiftZ));
+    __m128 rowX = _mm_shuffle_ps(xLow, xHigh, _MM_SHUFFLE(2, 0, 3, 0));
+    __m128 rowY = _mm_shuffle_ps(yLow, yHigh, _MM_SHUFFLE(2, 0, 2, 0));
+    __m128 rowZ = _mm_shuffle_ps(zLow, zHigh, _MM_SHUFFLE(2, 0, 2, 0));
+    if constexpr (Shifted) {
+      rowX = _mm_sub_ps(rowX, shiftX);
+      rowY = _mm_sub_ps(rowY, shiftY);
+      rowZ = _mm_sub_ps(rowZ, shiftZ);
+    }
+    _mm_storeu_ps(x + i, rowX);
+    _mm_storeu_ps(y + i, rowY);
+    _mm_storeu_ps(z + i, rowZ);
   }
 #endif
   for (; i < count; ++i) {
