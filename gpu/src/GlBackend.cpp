@@ -406,9 +406,7 @@ class GlBackend final : public ComputeBackend {
 
     const auto [low, high] = bodyWindow(queries);
     runHydrostaticsPasses(bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd, *kind);
-    if (Status s = finalSums(false, low, high, tables_.partials, sums_); !s) return s;
-    if (*kind != SurfaceKind::Flat)
-      if (Status s = finalSums(false, low, high, tables_.headPartials, headSums_); !s) return s;
+    if (Status s = finalSums(false, low, high, *kind != SurfaceKind::Flat); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
       const Body& body = bodies_[queries[i].body];
@@ -489,7 +487,7 @@ class GlBackend final : public ComputeBackend {
     tables_.partials.bind(3);
     const auto [low, high] = std::minmax_element(ids.begin(), ids.end());
     runSegments(massStorage_, programs_.mass, true, bodies_[*low].massChunkBegin, bodies_[*high].massChunkEnd);
-    if (Status s = finalSums(true, *low, *high + 1, tables_.partials, sums_); !s) return s;
+    if (Status s = finalSums(true, *low, *high + 1); !s) return s;
 
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const Body& body = bodies_[ids[i]];
@@ -1040,6 +1038,7 @@ class GlBackend final : public ComputeBackend {
     tables_.headPartials = GlBuffer(hydroChunks_.size() * sizeof(layout::Partial));
     tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
+    tables_.headResults = GlBuffer(bodies * sizeof(layout::BodySums));
     partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
   }
 
@@ -1072,47 +1071,58 @@ class GlBackend final : public ComputeBackend {
     return {low, high + 1};
   }
 
-  // Per-body double sums of the chunk partials in `partials` of bodies [low, high) into `out`, on
-  // the GPU or the CPU.
-  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high, const GlBuffer& partials,
-                   std::vector<layout::BodySums>& out) {
+  // Per-body double sums of the chunk partials of bodies [low, high) into sums_ and, with
+  // `withHeads` (surfaces that are not flat), of the pressure-head partials into headSums_: on the
+  // GPU (both reductions dispatched, then both read back after one wait) or on the CPU.
+  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high, bool withHeads = false) {
     const std::vector<layout::BodyRange>& ranges = massMode ? massRanges_ : hydroRanges_;
     if (finalOnGpu_) {
       glUseProgram(programs_.reduce.id());
-      partials.bind(0);
       (massMode ? tables_.massRanges : tables_.hydroRanges).bind(1);
       tables_.blocks.bind(2);
-      tables_.results.bind(3);
       glUniform1ui(programs_.reduce.uniform("bodyBase"), low);
       glUniform1ui(programs_.reduce.uniform("bodyCount"), high - low);
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
+      tables_.partials.bind(0);
+      tables_.results.bind(3);
       dispatchGroups(high - low);
+      if (withHeads) {
+        tables_.headPartials.bind(0);
+        tables_.headResults.bind(3);
+        dispatchGroups(high - low);
+      }
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-      tables_.results.read(low * sizeof(layout::BodySums), out.data() + low, (high - low) * sizeof(layout::BodySums));
+      const std::size_t offset = low * sizeof(layout::BodySums), bytes = (high - low) * sizeof(layout::BodySums);
+      tables_.results.read(offset, sums_.data() + low, bytes);
+      if (withHeads) tables_.headResults.read(offset, headSums_.data() + low, bytes);
     } else {
       const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
-      partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
-      for (std::size_t b = low; b < high; ++b) {
-        if (massMode && ranges[b].mode == 2) continue;
-        double s[12] = {};
-        if (massMode) s[10] = 3.0e38;
-        for (std::uint32_t c = ranges[b].chunkBegin; c < ranges[b].chunkEnd; ++c) {
-          const float* v = partials_[c].value;
-          if (!massMode) {
-            for (int k = 0; k < 11; ++k) s[k] += v[k];
-            continue;
+      auto sumOnHost = [&](const GlBuffer& partials, std::vector<layout::BodySums>& out) {
+        partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
+        for (std::size_t b = low; b < high; ++b) {
+          if (massMode && ranges[b].mode == 2) continue;
+          double s[12] = {};
+          if (massMode) s[10] = 3.0e38;
+          for (std::uint32_t c = ranges[b].chunkBegin; c < ranges[b].chunkEnd; ++c) {
+            const float* v = partials_[c].value;
+            if (!massMode) {
+              for (int k = 0; k < 11; ++k) s[k] += v[k];
+              continue;
+            }
+            // Same as reduce_partials.comp.
+            const layout::BlockGeometry& block = blocks_[c];
+            const double meanDensity = ranges[b].mode == 1 ? (block.absVolume > 0.0 ? v[10] / block.absVolume : 0.0)
+                                                           : double(ranges[b].uniformDensity);
+            s[0] += v[0];
+            for (int k = 1; k < 4; ++k) s[k] += 0.75 * v[k];
+            for (int k = 4; k < 10; ++k) s[k] += 0.6 * v[k] + meanDensity * block.covariance[k - 4];
+            if (!(double(v[11]) >= s[10])) s[10] = v[11];
           }
-          // Same as reduce_partials.comp.
-          const layout::BlockGeometry& block = blocks_[c];
-          const double meanDensity = ranges[b].mode == 1 ? (block.absVolume > 0.0 ? v[10] / block.absVolume : 0.0)
-                                                         : double(ranges[b].uniformDensity);
-          s[0] += v[0];
-          for (int k = 1; k < 4; ++k) s[k] += 0.75 * v[k];
-          for (int k = 4; k < 10; ++k) s[k] += 0.6 * v[k] + meanDensity * block.covariance[k - 4];
-          if (!(double(v[11]) >= s[10])) s[10] = v[11];
+          std::copy(std::begin(s), std::end(s), out[b].value);
         }
-        std::copy(std::begin(s), std::end(s), out[b].value);
-      }
+      };
+      sumOnHost(tables_.partials, sums_);
+      if (withHeads) sumOnHost(tables_.headPartials, headSums_);
     }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
       return Error{"gpu backend: OpenGL error " + std::to_string(error) + " in a compute pass"};

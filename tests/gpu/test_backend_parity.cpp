@@ -344,6 +344,14 @@ TEST_CASE("GL backend: storage segments and the CPU final sum give the same answ
     CHECK(relative(b[i].submergedVolume, a[i].submergedVolume) < 1e-12);
     CHECK((b[i].centerOfBuoyancy - a[i].centerOfBuoyancy).norm() < 1e-12 * testBodies()[i].size);
   }
+  // Under waves too: the pressure-head partials take the same two routes.
+  const GerstnerWaves waves({GerstnerWave{0.1, 5.0, Eigen::Vector2d(1.0, 0.5), 0.3, 0.7}});
+  const auto wa = runBatch(**reference, waves, batch);
+  const auto wb = runBatch(**split, waves, batch);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    CHECK(relative(wb[i].submergedVolume, wa[i].submergedVolume) < 1e-12);
+    CHECK((wb[i].buoyancyForce - wa[i].buoyancyForce).norm() < 1e-12 * wa[i].buoyancyForce.norm());
+  }
   TextureMassModel model;
   MassProperties ma, mb;
   const BackendBodyId id = 3;
