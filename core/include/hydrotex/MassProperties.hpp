@@ -42,8 +42,9 @@ MassProperties textureMassProperties(const SurfaceTextures& textures, const Text
 /// The texture path split in two for bodies evaluated again and again (density maps that change
 /// per step): what depends only on the geometry and the reference point is prepared once, in
 /// compact float arrays (per texel: the cone's apex-to-base vector p - c and volume
-/// (p - c) . A / 3), and each evaluation is one memory-bound pass accumulating in double per
-/// block of texels. Cone i (apex c, base texel at p, volume v) has its centroid at
+/// (p - c) . A / 3) and geometry-only sums; an evaluation with a density map is one memory-bound
+/// pass accumulating in double per block of texels, one of a uniform solid scales the sums (no
+/// pass over the texels). Cone i (apex c, base texel at p, volume v) has its centroid at
 /// c + 3/4 (p - c) and second moment about c of 3/5 v ((p - c)(p - c)^T + C_i), C_i the texel's
 /// in-plane covariance from its edges (exact for a flat parallelogram texel).
 class TextureMassIntegrator {
@@ -53,7 +54,8 @@ class TextureMassIntegrator {
 
   /// Prepares again, in place, for moved `textures` (a deforming body), keeping the reference
   /// point: allocates nothing when the texel count is unchanged, and costs one pass over the
-  /// texels in float (the cone terms of a texel are single precision; the sums are double).
+  /// texels in float, block by block (the cone terms of a texel are single precision; the sums
+  /// are float within a block of 256 texels, double across blocks).
   void update(const SurfaceTextures& textures);
 
   /// Mass properties for `model` (its referencePoint is ignored: the prepared one is used).
