@@ -13,6 +13,7 @@
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
 #include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/bullet/SoftBodyMotion.hpp"
 
 namespace hydrotex::tool {
 namespace {
@@ -24,7 +25,11 @@ struct SimulateOptions {
   bool json = false;
 };
 
-/// One CSV row per body: the columns of the issue, in that order.
+/// One CSV row per body: the columns of the issue, in that order. Soft bodies follow the rigid
+/// ones (Scene::softBodies order) with the same columns: position and velocities of their nodes
+/// as a whole (SoftBodyMotion), orientation of Bullet's pose-matching frame (identity when the
+/// body tracks none), mass and submerged volume; the flooding and wetting columns, which no soft
+/// body has, read 0 as they do for rigid bodies that do not list those effects.
 void writeRows(std::ostream& out, bullet::SceneWorld& sceneWorld) {
   const auto& bodies = sceneWorld.bodies();
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -42,6 +47,24 @@ void writeRows(std::ostream& out, bullet::SceneWorld& sceneWorld) {
         << (report ? report->liquidHeld : 0.0) << ',' << (report ? report->liquidAbsorbed : 0.0) << ','
         << (report ? report->liquidEvaporated : 0.0) << '\n';
   }
+  const auto& softBodies = sceneWorld.softBodies();
+  for (std::size_t i = 0; i < softBodies.size(); ++i) {
+    const bullet::SoftBodyMotion motion = bullet::softBodyMotion(*softBodies[i]);
+    const btVector3& p = motion.centerOfMass;
+    const btQuaternion& q = motion.orientation;
+    const btVector3& v = motion.linearVelocity;
+    const btVector3& w = motion.angularVelocity;
+    const bullet::SoftBodyReport* report = sceneWorld.controller().softBodyReport(softBodies[i]);
+    out << sceneWorld.time() << ',' << sceneWorld.scene().softBodies[i].name << ',' << p.x() << ',' << p.y() << ','
+        << p.z() << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << v.x() << ',' << v.y()
+        << ',' << v.z() << ',' << w.x() << ',' << w.y() << ',' << w.z() << ',' << motion.mass << ','
+        << (report ? report->submergedVolume : 0.0) << ",0,0,0,0\n";
+  }
+}
+
+/// True when every coordinate of `p` is finite.
+bool finite(const btVector3& p) {
+  return std::isfinite(double(p.x())) && std::isfinite(double(p.y())) && std::isfinite(double(p.z()));
 }
 
 int runSimulate(const SimulateOptions& options) {
@@ -71,15 +94,15 @@ int runSimulate(const SimulateOptions& options) {
     if (csv.is_open() && step % options.every == 0) writeRows(csv, sceneWorld);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (const btRigidBody* body : sceneWorld.bodies()) {
-    const btVector3 p = body->getCenterOfMassPosition();
-    if (!std::isfinite(double(p.x())) || !std::isfinite(double(p.y())) || !std::isfinite(double(p.z()))) {
-      if (csv.is_open()) {
-        csv.close();
-        std::filesystem::remove(temporaryPath);
-      }
-      return reportError(Error{options.scenePath + ": the simulation diverged (non-finite position)"});
+  bool diverged = false;
+  for (const btRigidBody* body : sceneWorld.bodies()) diverged = diverged || !finite(body->getCenterOfMassPosition());
+  for (const btSoftBody* body : sceneWorld.softBodies()) diverged = diverged || !finite(bullet::softBodyMotion(*body).centerOfMass);
+  if (diverged) {
+    if (csv.is_open()) {
+      csv.close();
+      std::filesystem::remove(temporaryPath);
     }
+    return reportError(Error{options.scenePath + ": the simulation diverged (non-finite position)"});
   }
   if (csv.is_open()) {
     csv.close();
@@ -115,6 +138,23 @@ int runSimulate(const SimulateOptions& options) {
     bodies.push_back(entry);
     text << "  " << scene->bodies[i].name << ": centre of mass " << formatVector(p) << " m, velocity "
          << formatVector(v) << " m/s, submerged " << report->hydrostatics.submergedVolume << " m^3\n";
+  }
+  for (std::size_t i = 0; i < sceneWorld.softBodies().size(); ++i) {
+    const bullet::SoftBodyMotion motion = bullet::softBodyMotion(*sceneWorld.softBodies()[i]);
+    const bullet::SoftBodyReport* report = sceneWorld.controller().softBodyReport(sceneWorld.softBodies()[i]);
+    const double submerged = report ? report->submergedVolume : 0.0;
+    const Eigen::Vector3d p(motion.centerOfMass.x(), motion.centerOfMass.y(), motion.centerOfMass.z());
+    const Eigen::Vector3d v(motion.linearVelocity.x(), motion.linearVelocity.y(), motion.linearVelocity.z());
+    nlohmann::json entry;
+    entry["name"] = scene->softBodies[i].name;
+    entry["soft"] = true;
+    entry["center_of_mass"] = toJson(p);
+    entry["linear_velocity"] = toJson(v);
+    entry["mass"] = motion.mass;
+    entry["submerged_volume"] = submerged;
+    bodies.push_back(entry);
+    text << "  " << scene->softBodies[i].name << " (soft): centre of mass " << formatVector(p) << " m, velocity "
+         << formatVector(v) << " m/s, submerged " << submerged << " m^3\n";
   }
   result["bodies"] = bodies;
   if (!options.csvPath.empty()) result["csv"] = options.csvPath;

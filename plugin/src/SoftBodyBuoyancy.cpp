@@ -114,16 +114,6 @@ Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time, double
     if (!p.allFinite() || !toEigen(node.m_v).allFinite())
       return Error{"soft body: node " + std::to_string(i) + " is not finite"};
     mesh_.positions[i] = p;
-    if (node.m_im > 0) {
-      const btScalar m = 1 / node.m_im;
-      report.mass += double(m);
-      report.centerOfMass += m * node.m_x;
-      report.linearVelocity += m * node.m_v;
-    }
-  }
-  if (report.mass > 0.0) {
-    report.centerOfMass /= btScalar(report.mass);
-    report.linearVelocity /= btScalar(report.mass);
   }
   evaluator_.evaluate(mesh_, textures_);
   for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {

@@ -23,6 +23,7 @@
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/bullet/SoftBodyMotion.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
@@ -491,4 +492,19 @@ TEST_CASE("soft body settings refuse effects it cannot honour") {
   CHECK(settings.validate().ok());
   settings.drag.advancingPressure = -1.0;
   CHECK_FALSE(settings.validate().ok());
+}
+
+TEST_CASE("a soft body's motion as a whole: momentum / mass and I^-1 L") {
+  SoftWorld w(0.0);
+  btSoftBody* ball = w.addBall(0.25, 20.0, 1.0);
+  // A rigid motion: V + omega x (x - c). Its whole-body motion is exactly (V, omega) (float sums
+  // over 642 nodes: 1e-5 relative).
+  const btVector3 center = centerOfMass(*ball), velocity(1, -2, 0.5), spin(3, 0, -4);
+  for (int i = 0; i < ball->m_nodes.size(); ++i) ball->m_nodes[i].m_v = velocity + spin.cross(ball->m_nodes[i].m_x - center);
+  const SoftBodyMotion motion = softBodyMotion(*ball);
+  CHECK(motion.mass == Approx(20.0).epsilon(1e-5));
+  CHECK(double((motion.centerOfMass - center).length()) < 1e-6);
+  CHECK(double((motion.linearVelocity - velocity).length()) < 1e-5 * double(velocity.length()));
+  CHECK(double((motion.angularVelocity - spin).length()) < 1e-5 * double(spin.length()));
+  CHECK(motion.orientation == btQuaternion::getIdentity());  // no pose frame tracked (setPose(true, false))
 }

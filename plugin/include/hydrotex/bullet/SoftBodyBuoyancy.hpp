@@ -69,7 +69,7 @@ struct SoftBodyReport {
   btVector3 buoyancyForce{0, 0, 0};   ///< N: sum of the pressure forces given to the nodes
   btVector3 buoyancyTorque{0, 0, 0};  ///< N m about the world origin
   btVector3 dragForce{0, 0, 0};       ///< N: sum of the drag forces of the texels (before the per-node limit)
-  btVector3 dragTorque{0, 0, 0};      ///< N m about centerOfMass
+  btVector3 dragTorque{0, 0, 0};      ///< N m about the nodes' centre of mass (softBodyMotion)
   double dragPower = 0.0;             ///< W: rate of work of the drag on the nodes this step (<= 0)
   double wettedArea = 0.0;            ///< m^2: texel area under the surface (partly wet texels in part)
   double enclosedVolume = 0.0;        ///< m^3: the soft body's current volume from its texels
@@ -77,9 +77,6 @@ struct SoftBodyReport {
   /// closed surface cut by a plane: the waterplane adds nothing); enclosedVolume in a medium
   /// without free surface.
   double submergedVolume = 0.0;
-  btVector3 centerOfMass{0, 0, 0};    ///< m: mass-weighted mean of the nodes (pinned nodes left out)
-  btVector3 linearVelocity{0, 0, 0};  ///< m/s: mass-weighted mean node velocity (pinned nodes left out)
-  double mass = 0.0;                  ///< kg: sum of the node masses (pinned nodes left out)
   bool pressureApplied = false;       ///< this step gave pressure forces (Effect::Buoyancy listed)
   bool dragApplied = false;           ///< this step evaluated drag (Effect::Drag listed)
   std::uint64_t dragTexelsVisited = 0;///< texels whose drag was evaluated this step (wet ones)
