@@ -335,12 +335,7 @@ void Wetting::buildDiffusionGroups() {
       if (conductanceSum[i] > 0.0) stableStep_ = std::min(stableStep_, nodeArea_[i] / (settings_.diffusivity * conductanceSum[i]));
 }
 
-Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) {
-  const std::size_t n = adjacency_.area.size();
-  if (texture.liquid.size() != n || texture.capacity.size() != n || texture.permeability.size() != n ||
-      (!texture.pigment.empty() && texture.pigment.size() != n))
-    return Error{"wetting: liquid texture has " + std::to_string(texture.liquid.size()) + " texels, the body " +
-                 std::to_string(n)};
+Status checkWettingStep(const WettingEnvironment& environment, double dt) {
   if (!(dt >= 0.0 && std::isfinite(dt))) return Error{"wetting: time step " + std::to_string(dt) + " s is not finite and >= 0"};
   if (!environment.pose.isFinite()) return Error{"wetting: body pose is not finite"};
   if (!(environment.gravity > 0.0 && std::isfinite(environment.gravity)))
@@ -352,6 +347,16 @@ Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingE
     if (!(source.rate >= 0.0 && std::isfinite(source.rate)) || !source.centre.allFinite() ||
         !source.direction.allFinite() || !(source.radius >= 0.0) || !(source.pigment >= 0.0 && source.pigment <= 1.0))
       return Error{"wetting: a liquid source has a negative rate or radius, a pigment outside 0..1, or a NaN"};
+  return Ok{};
+}
+
+Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) {
+  const std::size_t n = adjacency_.area.size();
+  if (texture.liquid.size() != n || texture.capacity.size() != n || texture.permeability.size() != n ||
+      (!texture.pigment.empty() && texture.pigment.size() != n))
+    return Error{"wetting: liquid texture has " + std::to_string(texture.liquid.size()) + " texels, the body " +
+                 std::to_string(n)};
+  if (Status s = checkWettingStep(environment, dt); !s) return s.error();
   WettingStepReport report;
   const bool flat = dynamic_cast<const FlatSurface*>(environment.liquid) || !environment.liquid;
   const int substeps = explicitSubsteps(dt);

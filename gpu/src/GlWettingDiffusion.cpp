@@ -145,6 +145,8 @@ Expected<int> GlWettingDiffusion::diffuse(double dt) {
   return count;
 }
 
+void GlWettingDiffusion::bindLiquid(unsigned binding) const { impl_->liquid[impl_->current].bind(binding); }
+
 Status GlWettingDiffusion::download(LiquidTexture& texture) const {
   if (texture.liquid.size() != texelCount_)
     return Error{"gpu wetting diffusion: liquid texture has " + std::to_string(texture.liquid.size()) + " texels, the graph " +

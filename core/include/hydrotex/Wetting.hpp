@@ -78,6 +78,11 @@ struct WettingStepReport {
   std::size_t submergedTexels = 0;  ///< texels under the liquid this step
 };
 
+/// Checks what a step is given (every backend's step calls it): `dt` finite and >= 0 (s), a
+/// finite pose, positive gravity, a valid liquid surface, sources with finite non-negative rate
+/// and radius and a pigment in 0..1. One-line error naming the value at fault.
+Status checkWettingStep(const WettingEnvironment& environment, double dt);
+
 /// Runs the liquid texture of one body. Holds the texel graph and the cached solver; per-step state
 /// is the LiquidTexture the caller owns.
 class Wetting {

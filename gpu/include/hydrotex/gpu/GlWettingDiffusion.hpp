@@ -3,9 +3,10 @@
 /// The diffusion of core's Wetting (Fick's law on the texel graph, explicit sub-steps under the
 /// computed stability bound) on the GPU, same results as Wetting::diffuse to float rounding. The
 /// graph is uploaded once; the liquid stays on the GPU between steps (upload / download when the
-/// host needs it). Not yet on the GPU: the absorption, sources and evaporation pass, merged stiff
-/// texels (WettingSettings::mergeBelowFraction must be 0) and the implicit fallback (a step that
-/// needs more than maxExplicitSubsteps answers an Error), and the pigment channel.
+/// host needs it). GlWetting adds the absorption, sources and evaporation pass for a whole step.
+/// Not on the GPU: merged stiff texels (WettingSettings::mergeBelowFraction must be 0), the
+/// implicit fallback (a step that needs more than maxExplicitSubsteps answers an Error), and the
+/// pigment channel.
 
 #include <memory>
 
@@ -39,6 +40,10 @@ class GlWettingDiffusion {
   Expected<int> diffuse(double dt);
   /// Copies the resident liquid back into `texture` (waits for the GPU). Error on a size mismatch.
   Status download(LiquidTexture& texture) const;
+  /// Binds the resident liquid (m per texel) to shader storage binding `binding` of the current
+  /// context, for passes that change it between diffusion steps (GlWetting's absorption and
+  /// evaporation). The context must be current.
+  void bindLiquid(unsigned binding) const;
   /// Largest stable explicit step (s): TexelAdjacency::stableTimeStep of the diffusivity.
   double stableTimeStep() const { return stableStep_; }
   /// Number of texels.
