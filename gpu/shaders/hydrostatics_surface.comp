@@ -28,8 +28,9 @@ uniform uint listBase;  // this segment's crossing list in Crossing; the dispatc
 
 #if defined(SURFACE_GERSTNER)
 layout(std430, binding = 5) readonly buffer Waves { GerstnerComponent waves[]; };
-// Per body, waveCount + 1 floats: mean level - o_y (m), then each wave's phase at o and this
-// time, k d . o - omega t + phase, reduced to [0, 2 pi) in double on the host.
+// Per body, waveCount + 2 floats: mean level - o_y (m), the crests' highest point - o_y (m), then
+// each wave's phase at o and this time, k d . o - omega t + phase, reduced to [0, 2 pi) in double
+// on the host.
 layout(std430, binding = 7) readonly buffer BodyWaves { float bodyWaves[]; };
 uniform uint waveCount;
 uniform float horizontalSum;  // sum Q A (m): scale of the search's rounding
@@ -55,8 +56,10 @@ shared float reduction[kSums + kHeads][kGroup];
 // its displaced point. Same iteration, same switch to fixed-point steps (determinant <= 0.1), same
 // 24 iterations at most; the stopping step is float's (8 ulps of the coordinates) instead of
 // 1e-9 m, a height error of at most sum(k A) times that.
+float dryLevelOf(uint body) { return bodyWaves[body * (waveCount + 2u) + 1u]; }
+
 float surfaceHeightAt(float x, float z, uint body) {
-  uint base = body * (waveCount + 1u);
+  uint base = body * (waveCount + 2u);
   float tolerance = 1.0e-6 * (abs(x) + abs(z) + horizontalSum) + 1.0e-12;
   float x0 = x, z0 = z, height = 0.0;
   for (int iteration = 0; iteration < 24; ++iteration) {
@@ -64,7 +67,7 @@ float surfaceHeightAt(float x, float z, uint body) {
     height = 0.0;
     for (uint w = 0u; w < waveCount; ++w) {
       GerstnerComponent c = waves[w];
-      float theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) + bodyWaves[base + 1u + w];
+      float theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) + bodyWaves[base + 2u + w];
       float sine = sin(theta), cosine = cos(theta);
       hx -= c.horizontal * sine * c.dirX;
       hz -= c.horizontal * sine * c.dirZ;
@@ -91,6 +94,8 @@ float surfaceHeightAt(float x, float z, uint body) {
 // HeightGrid::surfaceHeight about o: the grid coordinate (x - originX) / spacing split into the
 // body's cell (exact integer) and a small float part, clamped to [0, count - 1] as HeightGrid
 // clamps it.
+float dryLevelOf(uint body) { return frames[body].dryLevel; }
+
 float surfaceHeightAt(float x, float z, uint body) {
   GridFrame frame = frames[body];
   float gx = x * inverseSpacing + frame.fracX, gz = z * inverseSpacing + frame.fracZ;
@@ -145,9 +150,12 @@ void main() {
 #else
     float ea = dot(row1, vec3(t.ux, t.uy, t.uz));
     float eb = dot(row1, vec3(t.vx, t.vy, t.vz));
+    float halfSpan = 0.5 * (abs(ea) + abs(eb));
+    // Wholly above the surface's highest point: dry without the surface's look-up (as the CPU).
+    if (y - halfSpan >= dryLevelOf(chunk.body)) continue;
     float localHeight = surfaceHeightAt(x, z, chunk.body);
     float depth = localHeight - y;
-    if (!(depth > -0.5 * (abs(ea) + abs(eb)))) continue;  // dry (or a NaN height)
+    if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
     vec3 f = waterlineFractions(depth, ea, eb);
     float head = f.y;
 #endif

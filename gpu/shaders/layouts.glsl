@@ -121,14 +121,16 @@ struct GerstnerComponent {
 };
 
 // A body's place on a height grid (HeightGrid): the cell holding its frame origin o, o's offset
-// inside that cell (in spacings) and the height of the uploaded samples' reference above o_y (m),
-// so that the pass works with small numbers wherever the grid and the body lie.
+// inside that cell (in spacings), the height of the uploaded samples' reference above o_y (m), so
+// that the pass works with small numbers wherever the grid and the body lie, and the highest
+// sample above o_y (m): texels wholly above it are dry without a look-up.
 struct GridFrame {
   int cellX;
   int cellZ;
   float fracX;
   float fracZ;
   float heightOffset;
+  float dryLevel;
 };
 
 // A GPU-deformed body's geometry sums over one 256-texel mass block (deform_mass.comp), in float:

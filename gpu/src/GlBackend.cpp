@@ -828,6 +828,10 @@ class GlBackend final : public ComputeBackend {
                  "uniform media have); use the cpu backend for it"};
   }
 
+  // A height (m, frame) above which every point is dry, in float and never below `level`: a few
+  // ulps of slack, so that float rounding never skips a wet texel.
+  static float dryLevel(double level) { return float(level + 1e-6 * std::abs(level) + 1e-9); }
+
   // Writes what hydrostatics_surface.comp and the classification need besides the poses: per
   // asked body its dry level, and its wave phases or grid frame; the waves or grid samples. Every
   // number that is large in world units (positions, times, phases) is reduced about the body's
@@ -846,7 +850,7 @@ class GlBackend final : public ComputeBackend {
     if (kind == SurfaceKind::Gerstner) {
       const auto& waves = static_cast<const GerstnerWaves&>(surface);
       const auto& components = waves.components();
-      const std::size_t stride = components.size() + 1;
+      const std::size_t stride = components.size() + 2;  // hydrostatics_surface.comp's bodyWaves
       perBody.assign(bodies_.size() * stride, 0.0f);
       for (const GerstnerWaves::Component& c : components) {
         const layout::GerstnerComponent packed{float(c.waveNumber), float(c.dirX), float(c.dirZ), float(c.amplitude),
@@ -857,13 +861,14 @@ class GlBackend final : public ComputeBackend {
       for (std::size_t i = 0; i < queries.size(); ++i) {
         const Eigen::Vector3d& o = origins_[i];
         const double highest = surface.heightRange(queries[i].query.time).second;
-        dryLevels_[queries[i].body] = float(highest - o.y());
+        dryLevels_[queries[i].body] = dryLevel(highest - o.y());
         float* out = perBody.data() + queries[i].body * stride;
         out[0] = float(waves.meanLevel() - o.y());
+        out[1] = dryLevels_[queries[i].body];
         for (std::size_t w = 0; w < components.size(); ++w) {
           const GerstnerWaves::Component& c = components[w];
           const double theta = c.waveNumber * (c.dirX * o.x() + c.dirZ * o.z()) - c.omega * queries[i].query.time + c.phase;
-          out[1 + w] = float(theta - kTwoPi * std::floor(theta / kTwoPi));
+          out[2 + w] = float(theta - kTwoPi * std::floor(theta / kTwoPi));
         }
       }
     } else if (kind == SurfaceKind::Grid) {
@@ -874,7 +879,7 @@ class GlBackend final : public ComputeBackend {
       perBody.assign(bodies_.size() * sizeof(layout::GridFrame) / sizeof(float), 0.0f);
       for (std::size_t i = 0; i < queries.size(); ++i) {
         const Eigen::Vector3d& o = origins_[i];
-        dryLevels_[queries[i].body] = float(highest - o.y());
+        dryLevels_[queries[i].body] = dryLevel(highest - o.y());
         // o's grid coordinate as a whole cell and a part; a body beyond 2^30 cells is clamped to
         // the edge by the shader whatever its part.
         auto split = [&](double coordinate, int& cell, float& part) {
@@ -887,6 +892,7 @@ class GlBackend final : public ComputeBackend {
         split((o.x() - grid.originX()) / grid.spacing(), frame.cellX, frame.fracX);
         split((o.z() - grid.originZ()) / grid.spacing(), frame.cellZ, frame.fracZ);
         frame.heightOffset = float(reference - o.y());
+        frame.dryLevel = dryLevels_[queries[i].body];
         std::memcpy(perBody.data() + queries[i].body * sizeof(layout::GridFrame) / sizeof(float), &frame, sizeof(frame));
       }
     }

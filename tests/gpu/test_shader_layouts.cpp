@@ -167,7 +167,8 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   using layout::GridFrame;
   checkLayout(shader, "GridFrame", sizeof(GridFrame),
               {HYDROTEX_MEMBER(GridFrame, cellX), HYDROTEX_MEMBER(GridFrame, cellZ), HYDROTEX_MEMBER(GridFrame, fracX),
-               HYDROTEX_MEMBER(GridFrame, fracZ), HYDROTEX_MEMBER(GridFrame, heightOffset)});
+               HYDROTEX_MEMBER(GridFrame, fracZ), HYDROTEX_MEMBER(GridFrame, heightOffset),
+               HYDROTEX_MEMBER(GridFrame, dryLevel)});
   checkLayout(shader, "MassBlock", sizeof(layout::MassBlock), {HYDROTEX_MEMBER(layout::MassBlock, value)});
   using layout::BlockGeometry;
   checkLayout(shaderFp64, "BlockGeometry", sizeof(BlockGeometry),

@@ -100,6 +100,7 @@ struct GridFrame {
   std::int32_t cellX, cellZ;  ///< cell index of o along x and z
   float fracX, fracZ;         ///< o's offset inside that cell (in spacings)
   float heightOffset;         ///< reference of the uploaded samples minus o_y (m)
+  float dryLevel;             ///< highest sample minus o_y (m)
 };
 
 /// A GPU-deformed body's float geometry sums over one 256-texel mass block (deform_mass.comp).
