@@ -4,6 +4,9 @@
 // of the calling thread's CPU time (the machine is shared; wall time counts other jobs' slices).
 // `bench_wetting out.csv --steps` runs the step table only; `--profile` runs ten 1024^2 plate steps
 // and nothing else (for valgrind --tool=callgrind --toggle-collect='hydrotex::Wetting::step*').
+// Built with hydrotex::gpu, it also times the GL step (GlWetting: absorb + evaporate pass, then
+// the diffusion sub-steps; download of the volumes moved included) in wall time, medians of 15,
+// on whatever EGL opens (llvmpipe without a GPU) (`--gpu` runs that table only).
 #include <time.h>
 
 #include <algorithm>
@@ -17,6 +20,11 @@
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/Wetting.hpp"
+#ifdef HYDROTEX_WITH_GPU
+#include <chrono>
+
+#include "hydrotex/gpu/GlWetting.hpp"
+#endif
 
 using namespace hydrotex;
 
@@ -83,7 +91,7 @@ double amplitude(const TexelAdjacency& g, const std::vector<float>& liquid) {
 int main(int argc, char** argv) {
   const std::string csvPath = argc > 1 ? argv[1] : "bench_wetting.csv";
   const std::string mode = argc > 2 ? argv[2] : "";
-  const bool profile = mode == "--profile", stepsOnly = mode == "--steps" || profile;
+  const bool profile = mode == "--profile", stepsOnly = mode == "--steps" || profile, gpuOnly = mode == "--gpu";
   std::ofstream csv(csvPath);
   csv << "table,case,resolution,texels,pairs,merged_texels,substeps,absorb_ms,diffuse_ms,evaporate_ms,step_ms,error\n";
   const int runs = 15;
@@ -94,6 +102,7 @@ int main(int argc, char** argv) {
               "diffuse", "evaporate", "step ms");
   for (const char* name : {"plate", "uv sphere"}) {
     for (int resolution : {256, 512, 1024}) {
+      if (gpuOnly) break;
       if (profile && (resolution != 1024 || std::string(name) != "plate")) continue;
       const bool isPlate = std::string(name) == "plate";
       const Mesh mesh = isPlate ? plate(1.0) : primitives::uvSphere(0.5, 256, 128);
@@ -129,7 +138,52 @@ int main(int argc, char** argv) {
     }
   }
 
-  if (stepsOnly) {
+#ifdef HYDROTEX_WITH_GPU
+  if (!profile && !(stepsOnly && !gpuOnly)) {
+    auto context = gpu::EglContext::create();
+    if (!context) {
+      std::printf("\nGL step skipped: %s\n", context.error().message.c_str());
+    } else {
+      std::printf("\nGL liquid texture step on %s (plate, half submerged, rain; no merged texels; wall ms, medians of %d)\n",
+                  (*context)->renderer().c_str(), runs);
+      std::printf("%-10s %6s %9s %5s %9s\n", "case", "res", "texels", "sub", "step ms");
+      for (int resolution : {256, 512, 1024}) {
+        Prepared p = prepare(plate(1.0), resolution);
+        WettingSettings settings;
+        settings.mergeBelowFraction = 0.0;
+        auto gl = gpu::GlWetting::create(**context, p.graph, p.textures, settings);
+        if (!gl) {
+          std::fprintf(stderr, "%s\n", gl.error().message.c_str());
+          return 1;
+        }
+        LiquidTexture texture = *makeLiquidTexture(p.textures.size(), WettingMaterial{});
+        for (std::size_t i = 0; i < texture.size(); ++i) texture.liquid[i] = texture.capacity[i] * float(i % 7) / 7.0f;
+        if (!(*gl)->upload(texture)) return 1;
+        FlatSurface water(0.0);
+        WettingEnvironment environment;
+        environment.liquid = &water;
+        environment.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(0, 0, 30), Eigen::Vector3d::Zero());
+        environment.sources = {LiquidSource{}};
+        int substeps = 0;
+        std::vector<double> ms;
+        for (int r = 0; r < runs; ++r) {
+          const auto t0 = std::chrono::steady_clock::now();
+          auto report = (*gl)->step(environment, 1.0 / 60.0);  // reads the partials back: the GPU has finished
+          ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          if (!report) {
+            std::fprintf(stderr, "%s\n", report.error().message.c_str());
+            return 1;
+          }
+          substeps = report->diffusionSubsteps;
+        }
+        std::nth_element(ms.begin(), ms.begin() + runs / 2, ms.end());
+        std::printf("%-10s %6d %9zu %5d %9.3f\n", "plate", resolution, texture.size(), substeps, ms[runs / 2]);
+        csv << "gl_step,plate," << resolution << ',' << texture.size() << ",,," << substeps << ",,,," << ms[runs / 2] << ",\n";
+      }
+    }
+  }
+#endif
+  if (stepsOnly || gpuOnly) {
     std::printf("\nCSV: %s\n", csvPath.c_str());
     return 0;
   }
