@@ -354,19 +354,20 @@ TEST_CASE("a soft ball moving through still water feels the drag law of its surf
   const double friction = skinFrictionCoefficient(kRho * speed * nodeExtent(*ball) / 1.0e-3);
   const Eigen::Vector3d exact = polyhedralDrag(*ball, Eigen::Vector3d(speed, 0, 0), friction, coefficients);
   INFO("texel drag " << report.dragForce.x() << " N, per-face " << exact.x() << " N");
-  // Against the exact per-face sum: 0.5 %, the texels that straddle two faces (a few percent of
-  // the texels at 128^2 over 1280 faces, their normals averaged over at most ~15 degrees).
-  CHECK(double(report.dragForce.x()) == Approx(exact.x()).epsilon(0.005));
+  // Against the exact per-face sum: 0.2 %, the texels that straddle two faces (a few percent of
+  // the texels at 128^2 over 1280 faces, their normals averaged over at most ~15 degrees; the
+  // quadratic law is not linear in the normal). Measured 0.07 %.
+  CHECK(double(report.dragForce.x()) == Approx(exact.x()).epsilon(0.002));
   CHECK(std::abs(double(report.dragForce.y())) < 1e-3 * std::abs(exact.x()));
   CHECK(std::abs(double(report.dragForce.z())) < 1e-3 * std::abs(exact.x()));
   // Against the sphere's closed form (integrals over the sphere of the law with n = (cos t, ...)):
   // pressure rho U^2 pi R^2 / 4 (advancing half, C = 1), linear rho c U 4 pi R^2 / 3, friction
-  // rho/2 Cf U^2 3 pi^2 R^2 / 4; 3 %: the icosphere's faces lie inside the sphere (area -1.6 %)
-  // and its normals are those of its flat faces.
+  // rho/2 Cf U^2 3 pi^2 R^2 / 4; 1.5 %: the icosphere's faces lie inside the sphere (area
+  // -1.6 %) and its normals are those of its flat faces. Measured 0.55 %.
   const double sphere = kRho * speed * speed * kPi * radius * radius / 4.0 +
                         kRho * coefficients.linearPressureVelocity * speed * 4.0 * kPi * radius * radius / 3.0 +
                         0.5 * kRho * friction * speed * speed * 3.0 * kPi * kPi * radius * radius / 4.0;
-  CHECK(-double(report.dragForce.x()) == Approx(sphere).epsilon(0.03));
+  CHECK(-double(report.dragForce.x()) == Approx(sphere).epsilon(0.015));
   // The ball moves as a whole, so the drag acts on it as on a rigid body: the secant implicit
   // step gives U' = U / (1 + lambda), lambda = |F| dt / (m U) (0.9 % here), to float rounding.
   const double lambda = -double(report.dragForce.x()) * kDt / (double(ball->getTotalMass()) * speed);
@@ -375,6 +376,8 @@ TEST_CASE("a soft ball moving through still water feels the drag law of its surf
   // 2 %).
   const double lost = energyBefore - kineticEnergy(*ball);
   CHECK(lost == Approx(-double(report.dragForce.x()) * speed * kDt).epsilon(0.02));
+  // Exactly (float sums): 1/2 m U^2 (1 - 1 / (1 + lambda)^2).
+  CHECK(lost == Approx(0.5 * double(ball->getTotalMass()) * speed * speed * (1.0 - 1.0 / ((1.0 + lambda) * (1.0 + lambda)))).epsilon(1e-4));
   CHECK(report.dragPower * kDt == Approx(-lost).epsilon(1e-3));
   // The buoyancy is zero without gravity.
   CHECK(double(report.buoyancyForce.length()) < 1e-9);
