@@ -114,8 +114,10 @@ enum class DeformedCollisionShape {
   /// btConvexHullShape whose points all sit on mesh vertices (its points are moved; it is the
   /// user's object, and keeps the last shape after removeBody), or a btGImpactMeshShape or
   /// btBvhTriangleMeshShape over a one-part vertex array holding the mesh's vertices in order
-  /// (the array is rewritten and the tree refitted). Any other shape (a primitive, a compound, a
-  /// hull of other points, a scaled shape) cannot follow: addBody returns an Error naming it.
+  /// (the array is rewritten and the tree refitted). These are changed in place: a shape (or
+  /// array) shared with other bodies moves for them too, so give each deforming body its own.
+  /// Any other shape (a primitive, a compound, a hull of other points, a scaled shape) cannot
+  /// follow: addBody returns an Error naming it.
   Follow,
   /// The body collides as a convex hull of all its moved vertices, made and owned by the
   /// controller (margin: the user's shape's); the user's shape is kept aside and given back by
