@@ -8,11 +8,11 @@
 /// over the partials), results read back once per call.
 ///
 /// Why the bake stays on the CPU, uploaded once (issue 7: "measure and choose"). bench_gpu, one
-/// sphere, Mesa llvmpipe on a shared 2-core host (load 7; the range of two runs), ms:
+/// sphere, Mesa llvmpipe on a shared 2-core host (load 7), ms, median of three runs (range):
 ///
-///   resolution | CPU bake + evaluate (once) | GL upload (once) | GL step   | CPU step
-///   256^2      |  17 - 21                   |   3.1 - 11.6     | 0.31-0.39 | 0.013
-///   1024^2     | 124 - 152                  | 124 - 148        | 4.0 - 4.1 | 0.063-0.066
+///   resolution | CPU bake + evaluate (once) | GL upload (once)  | GL step           | CPU step
+///   256^2      |  17.6 (17 - 21)            |  11.6 (3.1 - 34)  | 0.37 (0.31 - 0.39) | 0.013
+///   1024^2     | 152 (124 - 162)            | 148 (124 - 156)   | 4.1 (4.0 - 8.0)    | 0.066
 ///
 /// The bake is paid once per body (a deforming mesh keeps its bake and is re-evaluated from it on
 /// the GPU each step: enableGpuDeformation), so a GPU bake could only save a one-time cost, which
