@@ -21,7 +21,9 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 
@@ -214,6 +216,22 @@ std::string exportFormatFor(std::string extension) {
 constexpr unsigned kImportFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                                   aiProcess_ValidateDataStructure;
 
+/// Bytes of a file's head searched for the end of a PLY header (headers with comments are a few KB).
+constexpr std::size_t kPlyHeaderSearchBytes = std::size_t{1} << 20;
+
+/// assimp 5.2's PLY reader loops forever on a header without an "end_header" line (found by
+/// fuzz_mesh), so such a file never reaches it. `head`: the file's first bytes (up to
+/// kPlyHeaderSearchBytes). Returns the reason to refuse, or nothing.
+std::optional<std::string> plyHeaderTrap(std::string_view head) {
+  const std::size_t start = head.find_first_not_of(" \t\r\n");
+  if (start == std::string_view::npos || head.size() - start < 3) return std::nullopt;
+  std::string magic(head.substr(start, 3));
+  for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (magic != "ply" || head.find("end_header") != std::string_view::npos) return std::nullopt;
+  return std::string("PLY header has no end_header line") +
+         (head.size() >= kPlyHeaderSearchBytes ? " in its first 1 MiB" : "");
+}
+
 }  // namespace
 
 Expected<Mesh> loadMesh(const std::string& path) {
@@ -228,7 +246,12 @@ Expected<Mesh> loadMesh(const std::string& path) {
   if (size > kMaxMeshFileBytes)
     return fileError(path, "file of " + std::to_string(size) + " bytes exceeds the " +
                                std::to_string(kMaxMeshFileBytes) + "-byte limit");
-  if (!std::ifstream(path, std::ios::binary).good()) return fileError(path, "file cannot be opened for reading");
+  std::ifstream file(path, std::ios::binary);
+  if (!file.good()) return fileError(path, "file cannot be opened for reading");
+  std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(size, kPlyHeaderSearchBytes)), '\0');
+  file.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+  if (const std::optional<std::string> trap = plyHeaderTrap(head)) return fileError(path, *trap);
 
   Assimp::Importer importer;
   importer.SetIOHandler(detail::MeshImportFileSystem::onDisk().release());  // the importer owns it
@@ -249,6 +272,8 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
                                });
   if (!hintIsExtension)
     return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
+  const std::string_view head(static_cast<const char*>(bytes), std::min(size, kPlyHeaderSearchBytes));
+  if (const std::optional<std::string> trap = plyHeaderTrap(head)) return fileError(name, *trap);
   // Not ReadFileFromMemory: its file system serves the mesh bytes as the OBJ reader's material
   // library too (see MeshImportFileSystem.hpp). Without a hint, assimp detects the format.
   const std::string memoryName = formatHint.empty() ? std::string("mesh") : "mesh." + formatHint;

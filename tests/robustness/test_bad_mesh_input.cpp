@@ -89,6 +89,9 @@ std::vector<BadMesh> badMeshes() {
       {"robust_truncated.stl", stl.substr(0, 84 + 50 * 5 + 17), "", false},
       // An OBJ cut inside a face ("f 8/"): assimp's validation refuses the half face.
       {"robust_truncated.obj", cutInFaces(validCubeObj()), "not a readable mesh", false},
+      // assimp 5.2's PLY reader loops forever without "end_header" (fuzz_mesh): refused first.
+      {"robust_ply_no_end_header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n0\n1\n2\n",
+       "end_header", false},
       {"robust_points_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n", "no triangles", false},
       {"robust_lines_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n", "no triangles", false},
       {"robust_nan.obj", tetrahedronObj("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\n"), "NaN", false},
