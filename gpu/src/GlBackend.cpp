@@ -843,21 +843,20 @@ class GlBackend final : public ComputeBackend {
     dryLevels_.assign(bodies_.size(), 0.0f);
     if (kind == SurfaceKind::Medium)
       for (const BackendHydrostaticsQuery& q : queries) dryLevels_[q.body] = 3.0e38f;
-    std::vector<float>& data = surfaceScratch_;
+    std::vector<float>& data = surfaceScratch_;  // grid samples
     std::vector<float>& perBody = bodyScratch_;
+    std::vector<layout::GerstnerComponent>& packedWaves = waveScratch_;
     data.clear();
     perBody.clear();
+    packedWaves.clear();
     if (kind == SurfaceKind::Gerstner) {
       const auto& waves = static_cast<const GerstnerWaves&>(surface);
       const auto& components = waves.components();
       const std::size_t stride = components.size() + 2;  // hydrostatics_surface.comp's bodyWaves
       perBody.assign(bodies_.size() * stride, 0.0f);
-      for (const GerstnerWaves::Component& c : components) {
-        const layout::GerstnerComponent packed{float(c.waveNumber), float(c.dirX), float(c.dirZ), float(c.amplitude),
-                                               float(c.steepness * c.amplitude)};
-        const auto* bytes = reinterpret_cast<const float*>(&packed);
-        data.insert(data.end(), bytes, bytes + sizeof(packed) / sizeof(float));
-      }
+      for (const GerstnerWaves::Component& c : components)
+        packedWaves.push_back({float(c.waveNumber), float(c.dirX), float(c.dirZ), float(c.amplitude),
+                               float(c.steepness * c.amplitude)});
       for (std::size_t i = 0; i < queries.size(); ++i) {
         const Eigen::Vector3d& o = origins_[i];
         const double highest = surface.heightRange(queries[i].query.time).second;
@@ -897,12 +896,13 @@ class GlBackend final : public ComputeBackend {
       }
     }
     tables_.dryLevels.write(0, dryLevels_.data(), dryLevels_.size() * sizeof(float));
-    auto fill = [](GlBuffer& buffer, const std::vector<float>& values) {
-      const std::size_t bytes = std::max<std::size_t>(values.size(), 1) * sizeof(float);
-      if (buffer.bytes() < bytes) buffer = GlBuffer(bytes);
-      buffer.write(0, values.data(), values.size() * sizeof(float));
+    auto fill = [](GlBuffer& buffer, const auto& values) {
+      const std::size_t bytes = values.size() * sizeof(values[0]);
+      if (buffer.bytes() < std::max<std::size_t>(bytes, 4)) buffer = GlBuffer(std::max<std::size_t>(bytes, 4));
+      buffer.write(0, values.data(), bytes);
     };
-    fill(tables_.surfaceData, data);
+    if (kind == SurfaceKind::Gerstner) fill(tables_.surfaceData, packedWaves);
+    else fill(tables_.surfaceData, data);
     fill(tables_.bodySurface, perBody);
     // The variant's uniforms.
     if (kind == SurfaceKind::Gerstner) {
@@ -1153,6 +1153,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<layout::BodySums> headSums_;  // per body: the pressure-head sums (surfaces that are not flat)
   std::vector<Eigen::Vector3d> origins_;     // per query of the current call: the frame origin o (m, world)
   std::vector<float> dryLevels_, surfaceScratch_, bodyScratch_;
+  std::vector<layout::GerstnerComponent> waveScratch_;
   std::vector<layout::Partial> partials_;
   Tables tables_;
   bool tablesDirty_ = true;
