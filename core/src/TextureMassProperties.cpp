@@ -227,13 +227,12 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     blockArea = volumeTerms[1];
     addTo(volumeFirst, &volumeTerms[2]);
     addTo(volumeSecond, blockSums<6>([&](std::size_t j) {
-            const Chunk cx_ = chunkAt(x, j), cy_ = chunkAt(y, j), cz_ = chunkAt(z, j), cv = chunkAt(v, j);
-            const Chunk vx = cv * cx_, vy = cv * cy_, vz = cv * cz_;
-            return Terms<6>{vx * cx_, vy * cy_, vz * cz_, vx * cy_, vx * cz_, vy * cz_};
+            const Chunk px = chunkAt(x, j), py = chunkAt(y, j), pz = chunkAt(z, j), cv = chunkAt(v, j);
+            const Chunk vx = cv * px, vy = cv * py, vz = cv * pz;
+            return Terms<6>{vx * px, vy * py, vz * pz, vx * py, vx * pz, vy * pz};
           }).data());
-    // The patch covariances, weighted for the cones (3/5 v) and the shell (a): the outer
-    // products' diagonal (xx yy zz), then the rest (xy xz yz).
-    // `offset` picks the pairs: 0 the diagonal (xx yy zz), 1 the rest (xy yz zx).
+    // The patch covariances, weighted for the cones (3/5 v) and the shell (a). `offset` picks the
+    // outer products' pairs: 0 the diagonal (xx yy zz), 1 the rest (xy yz zx).
     const auto weightedCovariance = [&](auto offset) {
       return blockSums<6>([&](std::size_t j) {
         const Chunk eu[3] = {chunkAt(scratch.ux, j), chunkAt(scratch.uy, j), chunkAt(scratch.uz, j)};
@@ -260,9 +259,9 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
             return Terms<3>{ca * chunkAt(x, j), ca * chunkAt(y, j), ca * chunkAt(z, j)};
           }).data());
     addTo(shellSecond, blockSums<6>([&](std::size_t j) {
-            const Chunk ca = chunkAt(a, j), cx_ = chunkAt(x, j), cy_ = chunkAt(y, j), cz_ = chunkAt(z, j);
-            const Chunk ax = ca * cx_, ay = ca * cy_, az = ca * cz_;
-            return Terms<6>{ax * cx_, ay * cy_, az * cz_, ax * cy_, ax * cz_, ay * cz_};
+            const Chunk ca = chunkAt(a, j), px = chunkAt(x, j), py = chunkAt(y, j), pz = chunkAt(z, j);
+            const Chunk ax = ca * px, ay = ca * py, az = ca * pz;
+            return Terms<6>{ax * px, ay * py, az * pz, ax * py, ax * pz, ay * pz};
           }).data());
     blockAbsVolume_[b] = blockAbs;
     volumeSum += blockVolume;
