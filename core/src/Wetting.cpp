@@ -32,6 +32,9 @@
 #include <cstring>
 #include <numeric>
 #include <string>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace hydrotex {
 
@@ -74,18 +77,27 @@ inline void store(float* p, std::size_t count, Lanes v) {
   else
     for (std::size_t k = 0; k < count; ++k) p[k] = v[k];
 }
+using ByteLanes = std::uint8_t __attribute__((vector_size(4)));
 inline LaneMask loadMask(const std::uint8_t* p, std::size_t count) {
-  LaneMask m = {0, 0, 0, 0};
-  for (std::size_t k = 0; k < kLaneCount; ++k) m[k] = k < count && p[k] ? -1 : 0;
-  return m;
+  ByteLanes bytes = {0, 0, 0, 0};
+  std::memcpy(&bytes, p, count);
+  return __builtin_convertvector(bytes, LaneMask) != LaneMask{0, 0, 0, 0};
 }
 inline void storeMask(std::uint8_t* p, std::size_t count, LaneMask m) {
-  for (std::size_t k = 0; k < kLaneCount; ++k)
-    if (k < count) p[k] = m[k] ? 1 : 0;
+  const ByteLanes bytes = __builtin_convertvector(m & 1, ByteLanes);
+  std::memcpy(p, &bytes, count);
 }
-// Sum of a mask's lanes (-1 per set lane).
+// Sum of the lanes (a count of set mask lanes when fed with -mask).
 inline std::int64_t horizontalSum(LaneMask m) { return std::int64_t{m[0]} + m[1] + m[2] + m[3]; }
-inline bool any(LaneMask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+// One bit per set lane (lane k: bit k).
+inline int laneBits(LaneMask m) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(reinterpret_cast<__m128>(m));
+#else
+  return (m[0] ? 1 : 0) | (m[1] ? 2 : 0) | (m[2] ? 4 : 0) | (m[3] ? 8 : 0);
+#endif
+}
+inline bool any(LaneMask m) { return laneBits(m) != 0; }
 // Sum of the lanes in double.
 inline double volumeSum(Lanes v) {
   return (static_cast<double>(v[0]) + static_cast<double>(v[1])) + (static_cast<double>(v[2]) + static_cast<double>(v[3]));
@@ -116,9 +128,14 @@ inline Lanes expNegative(Lanes x) {
 
 // 1 - e^-x in float, without the cancellation of 1 - expNegative(x) for small x (a short step
 // under water): series to x^4 below 0.03 (remainder x^5 / 120 < 7e-9 relative to x).
+// Each form is evaluated only when a lane needs it (short steps need only the series).
 inline Lanes oneMinusExpNegative(Lanes x) {
-  const Lanes series = x * (splat(1.0f) - x * (splat(0.5f) - x * (splat(1.0f / 6.0f) - x * splat(1.0f / 24.0f))));
-  return select(x < splat(0.03f), series, splat(1.0f) - expNegative(x));
+  const LaneMask small = x < splat(0.03f);
+  const int smallLanes = laneBits(small);
+  Lanes series = splat(0.0f), complement = splat(0.0f);
+  if (smallLanes != 0) series = x * (splat(1.0f) - x * (splat(0.5f) - x * (splat(1.0f / 6.0f) - x * splat(1.0f / 24.0f))));
+  if (smallLanes != 0xF) complement = splat(1.0f) - expNegative(x);
+  return select(small, series, complement);
 }
 
 }  // namespace
@@ -300,32 +317,40 @@ void Wetting::buildDiffusionGroups() {
   }
   // The explicit sweep's layout: per holding texel, its pairs towards higher indices (CSR), with
   // the float D g_ij of each; the ring that carries fluxes forward spans the longest such reach.
-  // The pair to the next texel (most texels have it) in its own array, the others as CSR.
+  // The explicit sweep's layout: per holding texel, its pair to the next texel and one other pair
+  // towards a higher index (the texel below, on a chart) in fixed slots, any more (seams) in a
+  // list sorted by their lower texel; D g_ij in float. The ring that carries fluxes forward spans
+  // the longest reach.
   nextConductance_.assign(n, 0.0f);
-  std::vector<std::uint8_t> isNext(pairFirst_.size(), 0);
-  for (std::size_t p = 0; p < pairFirst_.size(); ++p) {
-    const std::uint32_t low = std::min(pairFirst_[p], pairSecond_[p]), high = std::max(pairFirst_[p], pairSecond_[p]);
-    if (high == low + 1 && nextConductance_[low] == 0.0f) {
-      nextConductance_[low] = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
-      isNext[p] = nextConductance_[low] > 0.0f;
+  otherConductance_.assign(n, 0.0f);
+  otherOffset_.assign(n, 0);
+  extraFirst_.clear();
+  extraSecond_.clear();
+  extraConductance_.clear();
+  std::vector<std::uint32_t> order(pairFirst_.size());
+  std::iota(order.begin(), order.end(), 0u);
+  auto low = [&](std::uint32_t p) { return std::min(pairFirst_[p], pairSecond_[p]); };
+  auto high = [&](std::uint32_t p) { return std::max(pairFirst_[p], pairSecond_[p]); };
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return low(a) < low(b); });
+  std::size_t reach = 1;
+  for (const std::uint32_t p : order) {
+    const std::uint32_t i = low(p), j = high(p);
+    const auto c = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
+    if (!(c > 0.0f)) continue;  // carries nothing (D = 0)
+    reach = std::max<std::size_t>(reach, j - i);
+    if (j == i + 1 && nextConductance_[i] == 0.0f) {
+      nextConductance_[i] = c;
+    } else if (otherConductance_[i] == 0.0f) {
+      otherConductance_[i] = c;
+      otherOffset_[i] = j - i;
+    } else {
+      extraFirst_.push_back(i);
+      extraSecond_.push_back(j);
+      extraConductance_.push_back(c);
     }
   }
-  upperStart_.assign(n + 1, 0);
-  for (std::size_t p = 0; p < pairFirst_.size(); ++p)
-    if (!isNext[p]) ++upperStart_[std::min(pairFirst_[p], pairSecond_[p]) + 1];
-  for (std::size_t i = 0; i < n; ++i) upperStart_[i + 1] += upperStart_[i];
-  upperNeighbour_.resize(upperStart_[n]);
-  upperConductance_.resize(upperStart_[n]);
-  std::vector<std::uint32_t> cursor(upperStart_.begin(), upperStart_.end() - 1);
-  std::size_t reach = 1;
-  for (std::size_t p = 0; p < pairFirst_.size(); ++p) {
-    if (isNext[p]) continue;
-    const std::uint32_t low = std::min(pairFirst_[p], pairSecond_[p]), high = std::max(pairFirst_[p], pairSecond_[p]);
-    upperNeighbour_[cursor[low]] = high;
-    upperConductance_[cursor[low]++] = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
-    reach = std::max<std::size_t>(reach, high - low);
-  }
-  std::size_t ringSize = 1;
+  // At least one block of lanes, so that a block's four entries are contiguous in the ring.
+  std::size_t ringSize = kLaneCount;
   while (ringSize <= reach) ringSize *= 2;
   ring_.assign(ringSize, 0.0f);
   pigmentRing_.assign(ringSize, 0.0f);
@@ -515,7 +540,7 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
   std::uint8_t* submerged = submerged_.data();
   double absorbed = 0.0, evaporated = 0.0;
   Lanes absorbedLanes = zero, evaporatedLanes = zero;  // m^3
-  std::int64_t submergedCount = 0;
+  LaneMask submergedLanes = {0, 0, 0, 0};
   const bool evaporating = k.evaporationDepth > 0.0f;
   // A block of `count` texels from i; called with a constant 4 for whole blocks, so that the
   // loads are single moves there, and once with the rest.
@@ -539,7 +564,7 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
     }
     under &= active;
     if (k.absorbing) storeMask(submerged + i, count, under);
-    submergedCount -= horizontalSum(under);
+    submergedLanes -= under;
     Lanes current = held;
     // Blocks wholly under the liquid or wholly in the air (most are: the waterline crosses few)
     // skip the other stage's arithmetic.
@@ -590,7 +615,9 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
       const Lanes inverseCritical = select(hasCritical, inverseFull * splat(1.0f / k.criticalSaturation), one);
       const Lanes above = current - critical;
       const Lanes fallingExponent = (evaporationDepth - select(above > zero, above, zero)) * inverseCritical;
-      const Lanes falling = minimum(current, critical) * expNegative(fallingExponent);
+      // The falling-rate stage's exponential only when a lane reaches it.
+      const LaneMask reaches = ~(constantNext >= critical) & hasCritical & active & ~under;
+      const Lanes falling = any(reaches) ? minimum(current, critical) * expNegative(fallingExponent) : splat(0.0f);
       const Lanes constant = select(constantNext > zero, constantNext, zero);
       const Lanes dried = select((constantNext >= critical) | ~hasCritical, constant, falling);
       const Lanes next = select(active & ~under, dried, current);
@@ -615,7 +642,7 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
   evaporated += volumeSum(evaporatedLanes);
   totals.absorbed += absorbed;
   totals.evaporated += evaporated;
-  totals.submerged += static_cast<std::size_t>(submergedCount);
+  totals.submerged += static_cast<std::size_t>(horizontalSum(submergedLanes));
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {
@@ -667,44 +694,84 @@ void Wetting::sweep(LiquidTexture& texture, float step, Ahead&& ahead) {
   // sends its own to its higher neighbours (from the contents before this sub-step: theirs are not
   // yet updated, its own is updated only now) and is then final. Each pair's flux is formed once
   // and moved with opposite signs, so the volume is conserved to the rounding of the sums.
-  const std::size_t n = upperStart_.size() - 1;
-  const std::uint32_t* start = upperStart_.data();
-  const std::uint32_t* neighbour = upperNeighbour_.data();
-  const float* conductance = upperConductance_.data();
+  const std::size_t n = nextConductance_.size();
   const float* next = nextConductance_.data();
+  const float* other = otherConductance_.data();
+  const std::uint32_t* offset = otherOffset_.data();
   const float* inverseArea = inverseNodeArea_.data();
   float* phi = texture.liquid.data();
   float* pigment = WithPigment ? texture.pigment.data() : nullptr;
   float* ring = ring_.data();
   float* pigmentRing = pigmentRing_.data();
   const std::size_t mask = ring_.size() - 1;
+  std::size_t extra = 0;
+  const std::size_t extras = extraFirst_.size();
   // The pigment travels with the liquid, at the concentration of the texel it leaves (upwind).
   auto pigmentFlux = [&](std::size_t i, std::size_t j, float flux) {
     const float fromPhi = flux > 0.0f ? phi[i] : phi[j], fromPigment = flux > 0.0f ? pigment[i] : pigment[j];
     return flux * (fromPhi > 0.0f ? fromPigment / fromPhi : 0.0f);
   };
-  // The flux to the next texel (the pair most texels have) is carried in a register: through
-  // the ring it would make every texel wait for the previous one's store.
+  // The flux to the next texel is carried in a register: through the ring it would make every
+  // texel wait for the previous one's store. A missing pair has conductance 0 (and the other
+  // slot offset 0: a zero flux to itself), so the common case has no branch.
   float carried = 0.0f, pigmentCarried = 0.0f;
   constexpr std::size_t kChunk = 256;
   for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
-    ahead(std::min(n, chunk + kChunk));
-    for (std::size_t i = chunk; i < std::min(n, chunk + kChunk); ++i) {
+    const std::size_t chunkEnd = std::min(n, chunk + kChunk);
+    ahead(chunkEnd);
+    std::size_t i = chunk;
+    if constexpr (!WithPigment) {
+      // Four texels at a time while the next block exists (the chunks are whole blocks): their
+      // fluxes to the next texel from one shifted load, to the other pair's texel from a gather;
+      // the ring is read after the block has sent its own (a pair inside the block lands there).
+      const Lanes stepLanes = splat(step);
+      for (; i + kLaneCount < std::min(n, chunkEnd + 1); i += kLaneCount) {
+        const Lanes phiBlock = load(phi + i, kLaneCount);
+        const Lanes toNext = stepLanes * load(next + i, kLaneCount) * (phiBlock - load(phi + i + 1, kLaneCount));
+        Lanes otherPhi;
+        std::size_t otherIndex[kLaneCount];
+        for (std::size_t k = 0; k < kLaneCount; ++k) {
+          otherIndex[k] = i + k + offset[i + k];
+          otherPhi[k] = phi[otherIndex[k]];
+        }
+        const Lanes toOther = stepLanes * load(other + i, kLaneCount) * (phiBlock - otherPhi);
+        for (std::size_t k = 0; k < kLaneCount; ++k) ring[otherIndex[k] & mask] += toOther[k];
+        Lanes extraDelta = splat(0.0f);
+        for (; extra < extras && extraFirst_[extra] < i + kLaneCount; ++extra) {
+          const std::uint32_t from = extraFirst_[extra], j = extraSecond_[extra];
+          const float flux = step * extraConductance_[extra] * (phi[from] - phi[j]);
+          extraDelta[from - i] -= flux;
+          ring[j & mask] += flux;
+        }
+        const Lanes received = load(ring + (i & mask), kLaneCount);
+        store(ring + (i & mask), kLaneCount, splat(0.0f));
+        const Lanes fromPrevious = Lanes{carried, toNext[0], toNext[1], toNext[2]};
+        carried = toNext[3];
+        const Lanes delta = received + fromPrevious - toNext - toOther + extraDelta;
+        const Lanes updated = phiBlock + delta * load(inverseArea + i, kLaneCount);
+        store(phi + i, kLaneCount, select(updated > splat(0.0f), updated, splat(0.0f)));
+      }
+    }
+    for (; i < chunkEnd; ++i) {
       const float phiI = phi[i];
-      const float toNext = step * next[i] * (phiI - phi[std::min(i + 1, n - 1)]);  // 0 without that pair
-      float delta = ring[i & mask] + carried - toNext;
+      const std::size_t nextIndex = i + 1 < n ? i + 1 : i, otherIndex = i + offset[i];
+      const float toNext = step * next[i] * (phiI - phi[nextIndex]);  // m^3 from i to i + 1
+      const float toOther = step * other[i] * (phiI - phi[otherIndex]);
+      float delta = ring[i & mask] + carried - toNext - toOther;
       ring[i & mask] = 0.0f;
+      ring[otherIndex & mask] += toOther;
       carried = toNext;
       float pigmentDelta = 0.0f;
       if constexpr (WithPigment) {
-        const float moved = i + 1 < n ? pigmentFlux(i, i + 1, toNext) : 0.0f;
-        pigmentDelta = pigmentRing[i & mask] + pigmentCarried - moved;
+        const float movedNext = pigmentFlux(i, nextIndex, toNext), movedOther = pigmentFlux(i, otherIndex, toOther);
+        pigmentDelta = pigmentRing[i & mask] + pigmentCarried - movedNext - movedOther;
         pigmentRing[i & mask] = 0.0f;
-        pigmentCarried = moved;
+        pigmentRing[otherIndex & mask] += movedOther;
+        pigmentCarried = movedNext;
       }
-      for (std::uint32_t p = start[i]; p < start[i + 1]; ++p) {
-        const std::uint32_t j = neighbour[p];
-        const float flux = step * conductance[p] * (phiI - phi[j]);  // m^3 from i to j
+      for (; extra < extras && extraFirst_[extra] == i; ++extra) {
+        const std::uint32_t j = extraSecond_[extra];
+        const float flux = step * extraConductance_[extra] * (phiI - phi[j]);
         delta -= flux;
         ring[j & mask] += flux;
         if constexpr (WithPigment) {

@@ -181,9 +181,10 @@ class Wetting {
   std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
   std::vector<double> pairGeometric_;        // g_ij of those pairs (dimensionless)
   std::vector<float> nextConductance_;       // D g of the pair (i, i + 1), 0 without one (m^2/s)
-  std::vector<std::uint32_t> upperStart_;    // per holding texel: CSR range of its other pairs to higher indices
-  std::vector<std::uint32_t> upperNeighbour_;  // the other (higher) texel of each
-  std::vector<float> upperConductance_;      // D g_ij of each (m^2/s)
+  std::vector<float> otherConductance_;      // D g of one other pair (i, i + otherOffset_), 0 without one (m^2/s)
+  std::vector<std::uint32_t> otherOffset_;   // its index offset (0 without one)
+  std::vector<std::uint32_t> extraFirst_, extraSecond_;  // any further pairs (seams), by lower texel
+  std::vector<float> extraConductance_;      // their D g (m^2/s)
   std::vector<float> ring_, pigmentRing_;    // scratch: fluxes sent ahead in a sweep (m^3), power-of-two size
   struct BodySource;
   std::vector<BodySource> bodySources_;      // scratch: this step's sources in the body frame
