@@ -311,28 +311,37 @@ Expected<MassProperties> TextureMassIntegrator::evaluate(const TextureMassModel&
                       sums);
       double blockMass = 0.0, blockWeightedAbs = 0.0;
       Eigen::Vector3d first = Eigen::Vector3d::Zero();
-      double second[6] = {};
+      double s[6] = {};
       for (std::size_t l = 0; l < kLanes; ++l) {
         blockMass += sums.mass[l];
         first += Eigen::Vector3d(sums.fx[l], sums.fy[l], sums.fz[l]);
-        second[0] += sums.sxx[l];
-        second[1] += sums.syy[l];
-        second[2] += sums.szz[l];
-        second[3] += sums.sxy[l];
-        second[4] += sums.sxz[l];
-        second[5] += sums.syz[l];
+        s[0] += sums.sxx[l];
+        s[1] += sums.syy[l];
+        s[2] += sums.szz[l];
+        s[3] += sums.sxy[l];
+        s[4] += sums.sxz[l];
+        s[5] += sums.syz[l];
         blockWeightedAbs += sums.weightedAbs[l];
         lowestDensity = std::min(lowestDensity, sums.lowest[l]);
       }
       // The cone covariance terms were summed per block without density; weight them by the
       // block's mean density (exact where the density is uniform over the block).
       const double meanDensity = blockAbsVolume_[b] > 0.0 ? blockWeightedAbs / blockAbsVolume_[b] : 0.0;
+      const double* c = &blockCovariance_[6 * b];
       m.mass += blockMass;
       m.first += 0.75 * first;
-      m.second += 0.6 * symmetric(second) + meanDensity * symmetric(&blockCovariance_[6 * b]);
+      m.second(0, 0) += 0.6 * s[0] + meanDensity * c[0];
+      m.second(1, 1) += 0.6 * s[1] + meanDensity * c[1];
+      m.second(2, 2) += 0.6 * s[2] + meanDensity * c[2];
+      m.second(0, 1) += 0.6 * s[3] + meanDensity * c[3];
+      m.second(0, 2) += 0.6 * s[4] + meanDensity * c[4];
+      m.second(1, 2) += 0.6 * s[5] + meanDensity * c[5];
     }
     if (!(lowestDensity >= 0.0f) || !std::isfinite(m.mass))
       return Error{"density map has a negative or non-finite density"};
+    m.second(1, 0) = m.second(0, 1);
+    m.second(2, 0) = m.second(0, 2);
+    m.second(2, 1) = m.second(1, 2);
   }
   // The shell: uniform areal density over geometry-only sums prepared once.
   m.mass += model.shellDensity * shellArea_;
