@@ -67,20 +67,42 @@ void applyBodyFrame(btDynamicsWorld& world, FloatingBody& floating, const btTran
   if (body->getBroadphaseHandle() != nullptr) world.updateSingleAabb(body);
 }
 
-/// Symmetric positive semi-definite part of a stiffness, measured in the metric of the
-/// generalized masses (so that heave in N/m and roll in N m/rad are compared fairly).
-/// Negative directions (a capsizing body) stay explicit: they are physical growth, not stiffness.
-Eigen::Matrix3d positivePart(const Eigen::Matrix3d& stiffness, const Eigen::Vector3d& generalizedMass,
-                             double& largestRate) {
-  const Eigen::Vector3d scale = generalizedMass.cwiseSqrt().cwiseInverse();
+/// The part of a stiffness taken implicitly, in the metric of the generalized mass M (so that
+/// heave in N/m and roll in N m/rad compare fairly): with M = L L^T, the modes of L^-1 K L^-T.
+/// Stable modes (omega^2 > 0) are kept. Capsizing modes (omega^2 < 0) stay explicit, being
+/// physical growth, unless they grow faster than the step resolves (|omega^2| dt^2 > 1): such a
+/// mode is taken with |omega^2|, so one step turns the body at most about as far as the
+/// linearized torque stays meaningful (backward Euler's quasi-static answer) instead of an
+/// explicit kick of dt tau / I, which for a tiny inertia (a needle's roll) throws it far past
+/// where that torque holds and pumps energy in. `largestRate`: omega^2 (1/s^2) of the stiffest
+/// implicit mode.
+Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen::Matrix3d& generalizedMass, double dt,
+                                  double& largestRate) {
+  const Eigen::LLT<Eigen::Matrix3d> cholesky(generalizedMass);
+  const Eigen::Matrix3d lower = cholesky.matrixL();
   const Eigen::Matrix3d symmetric = 0.5 * (stiffness + stiffness.transpose());
-  const Eigen::Matrix3d normalized = scale.asDiagonal() * symmetric * scale.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(normalized);
-  const Eigen::Vector3d clamped = solver.eigenvalues().cwiseMax(0.0);
-  largestRate = clamped.maxCoeff();  // omega^2 (1/s^2) of the stiffest mode
-  const Eigen::Matrix3d positive = solver.eigenvectors() * clamped.asDiagonal() * solver.eigenvectors().transpose();
-  const Eigen::Vector3d unscale = generalizedMass.cwiseSqrt();
-  return unscale.asDiagonal() * positive * unscale.asDiagonal();
+  const Eigen::Matrix3d left = lower.triangularView<Eigen::Lower>().solve(symmetric);
+  const Eigen::Matrix3d normalized = lower.triangularView<Eigen::Lower>().solve(left.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(0.5 * (normalized + normalized.transpose()));
+  Eigen::Vector3d rates = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const double rate = solver.eigenvalues()[i];
+    if (rate > 0.0 || rate * dt * dt < -1.0) rates[i] = std::abs(rate);
+  }
+  largestRate = rates.maxCoeff();
+  const Eigen::Matrix3d modal = solver.eigenvectors() * rates.asDiagonal() * solver.eigenvectors().transpose();
+  return lower * modal * lower.transpose();
+}
+
+/// The inertia that torques about the world x and z axes meet while the spin about y stays free:
+/// the inverse of the (x, z) block of the inverse inertia (a Schur complement). For a needle
+/// lying in the water this is its tiny inertia about its own axis, where the diagonal entries
+/// I_xx, I_zz see the large transverse one whenever the needle is not exactly along x or z.
+Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
+  const Eigen::Matrix3d inverse = inertiaWorld.inverse();
+  Eigen::Matrix2d block;
+  block << inverse(0, 0), inverse(0, 2), inverse(2, 0), inverse(2, 2);
+  return block.inverse();
 }
 
 }  // namespace
@@ -529,8 +551,10 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
 
   const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
   const Eigen::Vector3d w = toEigen(body->getAngularVelocity());
-  const Eigen::Matrix3d inertiaWorld = toEigen(body->getInvInertiaTensorWorld()).inverse();
   const Eigen::Matrix3d rotation = meshPose.rotation;
+  // In double from the mesh-axes inertia: Bullet's float inverse inertia, inverted, loses the
+  // small moment of a needle (inverse moments 1e10 and 1e4 kg^-1 m^-2 in one float matrix).
+  const Eigen::Matrix3d inertiaWorld = rotation * report.massProperties.inertia * rotation.transpose();
 
   // Drag: a pass over the drag patches, only for bodies that list it.
   Eigen::Vector3d dragForce = Eigen::Vector3d::Zero(), dragTorque = Eigen::Vector3d::Zero();
@@ -609,6 +633,10 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   // a = (omega dt)^2 of the stiffest mode: almost symplectic (energy kept) for ordinary bodies,
   // fully implicit (dissipative, unconditionally stable) for light ones; every theta > 0 has
   // determinant 1/(1 + theta a) < 1 per step, so the hydrostatic oscillation never gains energy.
+  // The rates are those of the modes, not of the diagonal entries: a needle lying in the water
+  // has I_xx ~ its transverse inertia unless it points exactly along x, yet rolls about its own
+  // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
+  // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
   const double effectiveMass = mass + addedMass;
   Matrix6d system = Matrix6d::Zero();
   system.topLeftCorner<3, 3>() = effectiveMass * Eigen::Matrix3d::Identity();
@@ -625,13 +653,14 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   const bool stiff = !stiffness.isZero(0.0) && stiffness.allFinite();
   if (stiff) {
     double rate = 0.0;
-    const Eigen::Vector3d generalizedMass(effectiveMass, std::max(inertiaWorld(0, 0), 1e-12),
-                                          std::max(inertiaWorld(2, 2), 1e-12));
-    const Eigen::Matrix3d positive = positivePart(stiffness, generalizedMass, rate);
+    Eigen::Matrix3d generalizedMass = Eigen::Matrix3d::Zero();
+    generalizedMass(0, 0) = effectiveMass;
+    generalizedMass.bottomRightCorner<2, 2>() = rollPitchInertia(inertiaWorld);
+    const Eigen::Matrix3d implicitPart = implicitStiffness(stiffness, generalizedMass, dt, rate);
     const double theta = std::min(1.0, rate * dt * dt);
     static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * positive(i, j);
+      for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * implicitPart(i, j);
   }
   const Vector6d next = system.ldlt().solve(rhs);
   if (!next.allFinite()) {
