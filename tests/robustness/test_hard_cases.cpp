@@ -168,12 +168,14 @@ TEST_CASE("thin plates, needles and a rod (nearly singular inertia)", "[robustne
   }
 }
 
-TEST_CASE("a needle (1 m x 1 mm x 1 mm) gains no rotational energy", "[robustness][hard][!mayfail]") {
-  // FINDING (plugin, not fixed here): about its long axis the needle's inertia is 8e-11 kg m^2
-  // and the roll stiffness 8e-7 N m/rad, a natural frequency of 100 rad/s: at 60 Hz (omega dt =
-  // 1.6) the roll gains energy: 340 rad/s on the polyhedral path, 3e5 rad/s on the texture path
-  // (texels of 1 mm on a 1 mm face), while the energy it can draw on (its roll potential,
-  // m g 1e-4 m, plus the start spin) bounds it to about 110 rad/s. It stays finite.
+TEST_CASE("a needle (1 m x 1 mm x 1 mm) gains no rotational energy", "[robustness][hard]") {
+  // About its long axis the needle's inertia is 8e-11 kg m^2 and its roll stiffness about
+  // 8e-7 N m/rad: a natural frequency of 100 rad/s, omega dt = 1.6 at 60 Hz, which no step
+  // resolves. The energy it can draw on (its roll potential, m g 1e-4 m, plus the start spin)
+  // bounds its spin to about 110 rad/s. While the controller measured mode rates by I_xx instead
+  // of the needle's own roll inertia (BuoyancyController.cpp, rollPitchInertia) it reached
+  // 340 rad/s on the polyhedral path; while it kicked an under-resolved capsizing roll (a square
+  // section at half density is unstable upright) explicitly, 800 rad/s on the texture path.
   const auto method = GENERATE(HydrostaticsMethod::Polyhedral, HydrostaticsMethod::Texture);
   CAPTURE(method == HydrostaticsMethod::Texture);
   const double dt = 1.0 / 60.0;
