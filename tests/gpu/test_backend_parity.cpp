@@ -447,6 +447,34 @@ TEST_CASE("GL backend matches the CPU backend under a height grid", "[backend][p
   for (std::size_t i = 0; i < batch.size(); ++i) checkParity(gl[i], cpu[i], testBodies()[batch[i].body].size);
 }
 
+TEST_CASE("every backend: level waves and a level grid answer as the flat surface", "[backend][surface]") {
+  // Zero-amplitude waves and a grid of equal samples are the plane y = 0.2 reached through the
+  // texel-by-texel pressure path: on the box (flat faces: the pressure, linear in the position, is
+  // integrated exactly by the texel centres) volume, force and centre of buoyancy equal the flat
+  // surface's Archimedes answer to float rounding of the texels and partial sums, 1e-6 relative
+  // (1e-6 of the size on the centre); the water plane to the same. The pressure torque's lever
+  // times pressure is quadratic in the position, which texel centres integrate to O(texel^2)
+  // (1.3e-5 of size times force measured, the same on both backends): 1e-4.
+  const FlatSurface flat(0.2, 1025.0);
+  const GerstnerWaves level({GerstnerWave{0.0, 7.0, Eigen::Vector2d(1.0, 1.0), 0.5, 0.8}}, 0.2, 1025.0);
+  HeightGrid grid(3, 3, 5.0, -5.0, -6.0, 0.2, 1025.0);
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    BackendHydrostaticsQuery q;
+    q.query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(12.0, -25.0, 8.0), Eigen::Vector3d(0.5, 0.3, -1.0));
+    const HydrostaticsResult reference = runBatch(*backend, flat, {q})[0];
+    for (const LiquidSurface* surface : {static_cast<const LiquidSurface*>(&level), static_cast<const LiquidSurface*>(&grid)}) {
+      const HydrostaticsResult r = runBatch(*backend, *surface, {q})[0];
+      CHECK(relative(r.submergedVolume, reference.submergedVolume) < 1e-6);
+      CHECK((r.buoyancyForce - reference.buoyancyForce).norm() < 1e-6 * reference.buoyancyForce.norm());
+      CHECK((r.centerOfBuoyancy - reference.centerOfBuoyancy).norm() < 1e-6 * 2.0);
+      CHECK(relative(r.waterplaneArea, reference.waterplaneArea) < 1e-6);
+      CHECK((r.torqueAboutCenterOfMass - reference.torqueAboutCenterOfMass).norm() < 1e-4 * 2.0 * reference.buoyancyForce.norm());
+    }
+  }
+}
+
 TEST_CASE("every backend: a medium without a free surface", "[backend][surface]") {
   // A constant-density medium (water 5 m deep, no surface): every body is wholly submerged, the
   // force is rho g V upwards through the centroid. The pressure is integrated texel by texel at
