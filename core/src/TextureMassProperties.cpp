@@ -189,8 +189,9 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     // texels are zero, and zero area vector and area add nothing.
     const auto split = [&](auto shifted, const std::vector<Eigen::Vector3f>& packed, float sx, float sy, float sz,
                            float* x, float* y, float* z) {
-      detail::splitTriples<decltype(shifted)::value>(filled > 0 ? packed[begin].data() : nullptr, filled, sx, sy, sz, x,
-                                                     y, z);
+      if (filled > 0)
+        detail::splitTriples<decltype(shifted)::value>(packed[begin].data(), filled, sx, sy, sz, x, y, z, 3 * kBlock,
+                                                       3 * (count - begin));
       std::fill(x + filled, x + kBlock, 0.0f);
       std::fill(y + filled, y + kBlock, 0.0f);
       std::fill(z + filled, z + kBlock, 0.0f);
@@ -203,7 +204,11 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     split(std::false_type{}, textures.areaVector, 0.0f, 0.0f, 0.0f, scratch.ax, scratch.ay, scratch.az);
     split(std::false_type{}, textures.edgeU, 0.0f, 0.0f, 0.0f, scratch.ux, scratch.uy, scratch.uz);
     split(std::false_type{}, textures.edgeV, 0.0f, 0.0f, 0.0f, scratch.vx, scratch.vy, scratch.vz);
-    if (filled > 0) std::copy_n(textures.area.begin() + std::ptrdiff_t(begin), filled, scratch.area);
+    if (filled > 0) {
+      std::copy_n(textures.area.begin() + std::ptrdiff_t(begin), filled, scratch.area);
+      for (std::size_t k = begin + kBlock; k < std::min(count, begin + 2 * kBlock); k += 16)
+        __builtin_prefetch(textures.area.data() + k);
+    }
     std::fill(scratch.area + filled, scratch.area + kBlock, 0.0f);
 
     coneVolumes(x, y, z, scratch, v);

@@ -4,6 +4,7 @@
 // (two floats per instruction at best), while a 4x3 transpose is six shuffles; the per-step
 // passes over textures of deforming bodies (SurfaceEvaluator, TextureMassIntegrator::update) are
 // bound by exactly these accesses. Plain loops where SSE is not available.
+#include <algorithm>
 #include <cstddef>
 
 #if defined(__SSE2__)
@@ -13,15 +14,19 @@
 namespace hydrotex::detail {
 
 /// Splits `count` packed triples starting at `packed` into x[], y[], z[] (each `count` long), minus
-/// (sx, sy, sz) when Shifted.
+/// (sx, sy, sz) when Shifted. Also asks the cache for the floats `prefetchAhead` past the ones it
+/// reads, up to the last of the `available` floats from `packed` (the next block of a pass that
+/// splits block by block: a block's short bursts do not last long enough for the hardware
+/// prefetcher).
 template <bool Shifted>
 inline void splitTriples(const float* packed, std::size_t count, float sx, float sy, float sz, float* x, float* y,
-                         float* z) {
+                         float* z, std::size_t prefetchAhead, std::size_t available) {
   std::size_t i = 0;
 #if defined(__SSE2__)
   const __m128 shiftX = _mm_set1_ps(sx), shiftY = _mm_set1_ps(sy), shiftZ = _mm_set1_ps(sz);
   for (; i + 4 <= count; i += 4) {
     const float* p = packed + 3 * i;
+    __builtin_prefetch(packed + std::min(3 * i + prefetchAhead, available - 1));
     const __m128 a = _mm_loadu_ps(p);      // x0 y0 z0 x1
     const __m128 b = _mm_loadu_ps(p + 4);  // y1 z1 x2 y2
     const __m128 c = _mm_loadu_ps(p + 8);  // z2 x3 y3 z3
