@@ -1,9 +1,9 @@
 #pragma once
-// Packed float triples (std::vector<Eigen::Vector3f>: x0 y0 z0 x1 y1 z1 ...) to and from
-// structure-of-arrays, four triples at a time. Compilers vectorise stride-3 accesses poorly
-// (two floats per instruction at best), while a 4x3 transpose is six shuffles; the per-step
-// passes over textures of deforming bodies (SurfaceEvaluator, TextureMassIntegrator::update) are
-// bound by exactly these accesses. Plain loops where SSE is not available.
+// Packed float triples (std::vector<Eigen::Vector3f>: x0 y0 z0 x1 y1 z1 ...) split into
+// structure-of-arrays, four triples at a time. Compilers vectorise stride-3 accesses poorly (two
+// floats per instruction at best), while a 4x3 transpose is a few shuffles; the per-step pass over
+// the textures of a deforming body (TextureMassIntegrator::update) starts with exactly these
+// accesses. A plain loop where SSE2 is not available.
 #include <algorithm>
 #include <cstddef>
 
@@ -49,6 +49,9 @@ inline void splitTriples(const float* packed, std::size_t count, float sx, float
     _mm_storeu_ps(y + i, rowY);
     _mm_storeu_ps(z + i, rowZ);
   }
+#else
+  (void)prefetchAhead;  // the plain loop below leaves prefetching to the hardware
+  (void)available;
 #endif
   for (; i < count; ++i) {
     x[i] = packed[3 * i] - sx;
