@@ -213,8 +213,39 @@ std::string exportFormatFor(std::string extension) {
 
 // No aiProcess_FindDegenerates / FindInvalidData: degenerate triangles and bad values must reach
 // the validator and the checks in convertScene instead of being silently dropped or patched.
-constexpr unsigned kImportFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                                  aiProcess_ValidateDataStructure;
+constexpr unsigned kPostProcessFlags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+
+/// Reads `file` through the importer's file system, then post-processes it. The two are split
+/// because Debian's assimp 5.2 is built with its assertions on, and its triangulation asserts
+/// (aborting the process) when a mesh's primitive-type flags do not match its faces, as the PLY
+/// reader leaves them after failing to parse a face (it keeps the face with no corners; found by
+/// fuzz_mesh). In between, such a face is refused and the flags are recomputed from the faces.
+/// Errors name `shownName` (the caller's name for an in-memory file).
+Expected<const aiScene*> importScene(Assimp::Importer& importer, const std::string& file, const std::string& shownName) {
+  const aiScene* read = importer.ReadFile(file, aiProcess_ValidateDataStructure);
+  if (read == nullptr) return fileError(shownName, "not a readable mesh: " + oneLine(importer.GetErrorString()));
+  // The importer owns the scene and hands it out read-only; it is not a const object.
+  aiScene& scene = const_cast<aiScene&>(*read);
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh* mesh = scene.mMeshes[m];
+    if (mesh == nullptr) continue;
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const unsigned corners = mesh->mFaces[f].mNumIndices;
+      if (corners == 0)
+        return fileError(shownName, "face " + std::to_string(f) + " of mesh " + std::to_string(m) +
+                                   " has no corners (a face record the reader could not parse)");
+      types |= corners == 1   ? unsigned(aiPrimitiveType_POINT)
+               : corners == 2 ? unsigned(aiPrimitiveType_LINE)
+               : corners == 3 ? unsigned(aiPrimitiveType_TRIANGLE)
+                              : unsigned(aiPrimitiveType_POLYGON);
+    }
+    mesh->mPrimitiveTypes = types;
+  }
+  const aiScene* processed = importer.ApplyPostProcessing(kPostProcessFlags);
+  if (processed == nullptr) return fileError(shownName, "not a readable mesh: " + oneLine(importer.GetErrorString()));
+  return processed;
+}
 
 /// Bytes of a file's head searched for the end of a PLY header (headers with comments are a few KB).
 constexpr std::size_t kPlyHeaderSearchBytes = std::size_t{1} << 20;
@@ -255,9 +286,9 @@ Expected<Mesh> loadMesh(const std::string& path) {
 
   Assimp::Importer importer;
   importer.SetIOHandler(detail::MeshImportFileSystem::onDisk().release());  // the importer owns it
-  const aiScene* scene = importer.ReadFile(path, kImportFlags);
-  if (scene == nullptr) return fileError(path, "not a readable mesh: " + oneLine(importer.GetErrorString()));
-  return convertScene(*scene, path);
+  const Expected<const aiScene*> scene = importScene(importer, path, path);
+  if (!scene) return scene.error();
+  return convertScene(**scene, path);
 }
 
 Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std::string& formatHint,
@@ -279,9 +310,9 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
   const std::string memoryName = formatHint.empty() ? std::string("mesh") : "mesh." + formatHint;
   Assimp::Importer importer;
   importer.SetIOHandler(detail::MeshImportFileSystem::inMemory(bytes, size, memoryName).release());  // owned
-  const aiScene* scene = importer.ReadFile(memoryName, kImportFlags);
-  if (scene == nullptr) return fileError(name, "not a readable mesh: " + oneLine(importer.GetErrorString()));
-  return convertScene(*scene, name);
+  const Expected<const aiScene*> scene = importScene(importer, memoryName, name);
+  if (!scene) return scene.error();
+  return convertScene(**scene, name);
 }
 
 Status saveMesh(const Mesh& mesh, const std::string& path) {

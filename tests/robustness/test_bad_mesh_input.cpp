@@ -189,6 +189,24 @@ TEST_CASE("a corrupt material library is never parsed", "[robustness][bad-input]
   CHECK(textFromMemory->triangles.size() == 12);
 }
 
+// Regression (fuzz_mesh, issue 11): Debian's assimp 5.2 keeps its assertions, and its
+// triangulation aborted the process when the PLY reader, failing to parse a face, kept it with no
+// corners while flagging the mesh as holding polygons.
+TEST_CASE("a PLY face the reader skips does not abort the import", "[robustness][bad-input][mesh]") {
+  const std::string input =
+      readFile(hydrotex::test::sourcePath("fuzz/corpus/mesh/ply-skipped-face-triangulate-assert.bin"));
+  REQUIRE(input.size() > 1);
+  const std::string bytes = input.substr(1);  // the first byte picked the "ply" hint
+  const std::string path = writeScratch("robust_skipped_face.ply", bytes);
+  const Expected<Mesh> fromDisk = loadMesh(path);
+  const Expected<Mesh> fromMemory = loadMeshFromMemory(bytes.data(), bytes.size(), "ply", "robust_skipped_face.ply");
+  // The reader kept the face it could not parse as one with no corners: refused, not guessed at.
+  REQUIRE_FALSE(fromDisk.ok());
+  checkMessage(fromDisk.error().message, "robust_skipped_face.ply", "no corners");
+  REQUIRE_FALSE(fromMemory.ok());
+  checkMessage(fromMemory.error().message, "robust_skipped_face.ply", "no corners");
+}
+
 #ifdef HYDROTEX_TOOL_PATH
 TEST_CASE("bad mesh files: the tool exits non-zero with one line naming the file", "[robustness][bad-input][mesh][tool]") {
   using hydrotex::test::requireCleanFailure;
