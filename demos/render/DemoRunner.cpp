@@ -1,5 +1,7 @@
 #include "DemoRunner.hpp"
 
+#include <BulletSoftBody/btSoftBody.h>
+
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
@@ -234,6 +236,28 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     figures.push_back(bodyFigures);
   }
 
+  // Soft bodies (`soft: true`): drawn from their nodes, which are the mesh's vertices one for one
+  // (btSoftBodyHelpers::CreateFromTriMesh), so the mesh's triangles and UVs carry the body's look.
+  struct SoftInstance {
+    std::size_t sceneIndex = 0;
+    int rendererId = 0;
+    Mesh mesh;  // nodes copied into its positions each frame (world frame, m)
+    float overlayOpacity = 0.0f;
+  };
+  std::vector<SoftInstance> softBodies;
+  for (std::size_t i = 0; i < scene->softBodies.size(); ++i) {
+    Mesh mesh;
+    BodyLook look;
+    std::optional<RgbImage> albedo, overlay;
+    if (!loadBody(scene->softBodies[i], mesh, look, albedo, overlay)) return 1;
+    Expected<int> id = (*renderer)->addBody(mesh, albedo ? &*albedo : nullptr, overlay ? &*overlay : nullptr, look.palette);
+    if (!id) {
+      std::fprintf(stderr, "hydrotex_demo: %s\n", id.error().message.c_str());
+      return 1;
+    }
+    softBodies.push_back(SoftInstance{i, *id, std::move(mesh), overlay ? float(look.overlayOpacity) : 0.0f});
+  }
+
   // The ground (a scene's seabed, or the field a balloon stands on): a wide flat box whose top is
   // the floor Bullet collides with.
   std::optional<BodyInstance> ground;
@@ -394,6 +418,19 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
           return 1;
         }
       }
+    for (SoftInstance& soft : softBodies) {
+      const btSoftBody& body = *sceneWorld.softBodies()[soft.sceneIndex];
+      const std::size_t nodes = std::min(std::size_t(body.m_nodes.size()), soft.mesh.positions.size());
+      for (std::size_t k = 0; k < nodes; ++k) {
+        const btVector3& x = body.m_nodes[int(k)].m_x;
+        soft.mesh.positions[k] = Eigen::Vector3d(x.x(), x.y(), x.z());
+      }
+      if (const Status set = (*renderer)->setBodyMesh(soft.rendererId, soft.mesh); !set) {
+        std::fprintf(stderr, "\nhydrotex_demo: %s\n", set.error().message.c_str());
+        return 1;
+      }
+      input.bodies.push_back({soft.rendererId, Eigen::Matrix4f::Identity(), soft.overlayOpacity, 0.0f});
+    }
     for (const SceneryInstance& item : scenery) {
       const std::vector<float> pixels = item.image.pixels(item.wet->texture());
       if (const Status set = (*renderer)->setWetness(item.rendererId, item.image.width(), item.image.height(), pixels); !set) {

@@ -266,6 +266,17 @@ Expected<int> GlRenderer::addBody(const Mesh& mesh, const RgbImage* albedo, cons
   return static_cast<int>(impl_->bodies.size()) - 1;
 }
 
+Status GlRenderer::setBodyMesh(int body, const Mesh& mesh) {
+  if (body < 0 || body >= static_cast<int>(impl_->bodies.size())) return Error{"renderer: no body " + std::to_string(body)};
+  const std::vector<RenderVertex> vertices = unrollMesh(mesh, 40.0);
+  if (vertices.empty()) return Error{"renderer: mesh " + mesh.sourceName + " has no triangles"};
+  Impl::Body& b = impl_->bodies[static_cast<std::size_t>(body)];
+  glBindBuffer(GL_ARRAY_BUFFER, b.buffer);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(RenderVertex)), vertices.data(), GL_DYNAMIC_DRAW);
+  b.vertexCount = static_cast<GLsizei>(vertices.size());
+  return Ok{};
+}
+
 Status GlRenderer::setAlbedo(int body, const RgbImage& albedo) {
   if (body < 0 || body >= static_cast<int>(impl_->bodies.size())) return Error{"renderer: no body " + std::to_string(body)};
   glDeleteTextures(1, &impl_->bodies[static_cast<std::size_t>(body)].albedo);

@@ -86,6 +86,9 @@ class GlRenderer {
   /// per crossing of a film of pure pigment, per channel). Errors: unknown body, a size that does not match.
   Status setWetness(int body, int width, int height, const std::vector<float>& wetness,
                     const Eigen::Vector3f& pigmentTransmittance = Eigen::Vector3f(0.75f, 0.12f, 0.2f));
+  /// Replaces a body's mesh (same triangles and UVs, moved vertices: a soft body's nodes, m, in
+  /// the frame its BodyInstance::model maps from). Errors: unknown body, a mesh without triangles.
+  Status setBodyMesh(int body, const Mesh& mesh);
   /// Replaces a body's albedo (e.g. with its wet-shaded colour as the liquid texture changes).
   Status setAlbedo(int body, const RgbImage& albedo);
 

@@ -67,7 +67,18 @@ void main() {
   vec3 ambient = mix(vec3(0.22, 0.20, 0.18), vec3(0.38, 0.45, 0.55), 0.5 + 0.5 * n.y);
   vec3 lightColour = vec3(1.0, 0.96, 0.88) * 0.85;
   float specular = pow(max(dot(reflect(-sun, n), toEye), 0.0), 32.0) * 0.08 * lit;
-  // A liquid film is smooth: a sharp highlight of the film's own reflectance where wet.
-  specular += saturation * pow(max(dot(reflect(-sun, n), toEye), 0.0), 200.0) * 40.0 * hxFilmReflectance(kWaterIndex) * lit;
-  colour = vec4(albedo * (ambient + lightColour * diffuse) + specular, 1.0);
+  // The film over the wet fraction of a texel is a smooth water surface, drawn as the sea is
+  // (water.frag): it glints in the sun and, at oblique angles, mirrors the sky by Schlick's
+  // Fresnel factor beyond its normal reflectance R1 (hxFilmReflectance, which the Lekner and Dorf
+  // diffuse colour already leaves out); what it mirrors does not reach the surface below. Facing
+  // the viewer the wet part is darker, towards the outline it gets a sky sheen: a dark hull
+  // reads as wet by both. The dry rough surface has only its broad, faint highlight.
+  float r1 = hxFilmReflectance(kWaterIndex);
+  float fresnel = r1 + (1.0 - r1) * pow(1.0 - clamp(dot(n, toEye), 0.0, 1.0), 5.0);
+  vec3 mirrored = reflect(-toEye, n);
+  vec3 mirroredSky = mirrored.y >= 0.0 ? mix(vec3(0.78, 0.86, 0.93), vec3(0.25, 0.47, 0.80), pow(clamp(mirrored.y, 0.0, 1.0), 0.6))
+                                       : ambient * albedo;  // below the horizon: the ground and the body itself
+  float glint = pow(max(dot(mirrored, sun), 0.0), 120.0) * 2.0 * lit;
+  vec3 film = saturation * ((fresnel - r1) * mirroredSky + vec3(1.0, 0.95, 0.85) * glint);
+  colour = vec4(albedo * (ambient + lightColour * diffuse) * (1.0 - saturation * (fresnel - r1)) + specular + film, 1.0);
 }
