@@ -1,10 +1,11 @@
 // hydrotex_demo: runs one of the paper's scenes headless and renders it.
-//   hydrotex_demo NAME_OR_FILE --out DIR [--frames N] [--size WxH] [--no-video] [--smoke]
+//   hydrotex_demo NAME_OR_FILE --out DIR [--frames N] [--size WxH] [--no-video] [--smoke] [--window]
 //   hydrotex_demo --list
 // NAME is a demo in data/scenes (demo_NAME.json), e.g. "ship"; FILE any demo file.
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <vector>
@@ -30,15 +31,23 @@ int main(int argc, char** argv) {
   CLI::App app{"hydrotex_demo: the paper's scenes, simulated and rendered headless (EGL)"};
   std::string demoName, outDir, size;
   std::optional<int> frames;
-  bool smoke = false, noVideo = false, list = false;
+  bool smoke = false, noVideo = false, list = false, window = false;
   app.add_option("demo", demoName, "demo name (e.g. ship; see --list) or a demo JSON file");
   app.add_option("--out", outDir, "output directory (default: demo-output/NAME)");
   app.add_option("--frames", frames, "frames to render (default: the scene's duration at the demo's fps)");
   app.add_option("--size", size, "picture size WxH (default: the demo's, 640x360)");
   app.add_flag("--no-video", noVideo, "skip the MP4");
   app.add_flag("--smoke", smoke, "CI check: 4 small frames, no video, fail on a blank picture");
+  app.add_flag("--window", window, "show the frames in a window as they are drawn (not in this build: it renders headless only)");
   app.add_flag("--list", list, "list the bundled demos and whether each can run in this build");
   CLI11_PARSE(app, argc, argv);
+  if (window) {
+    // The renderer draws into an offscreen EGL framebuffer; no windowing library (GLFW) is wired in.
+    std::fprintf(stderr, "hydrotex_demo: --window: this build renders headless only (no GLFW window%s); drop --window and open the "
+                         "frames, video and contact sheet it writes under --out\n",
+                 std::getenv("DISPLAY") == nullptr && std::getenv("WAYLAND_DISPLAY") == nullptr ? ", and no display is set" : "");
+    return 2;
+  }
 
   if (list || demoName.empty()) {
     for (const auto& path : bundledDemos()) {
