@@ -258,7 +258,18 @@ std::optional<std::string> plyHeaderTrap(std::string_view head) {
   if (start == std::string_view::npos || head.size() - start < 3) return std::nullopt;
   std::string magic(head.substr(start, 3));
   for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (magic != "ply" || head.find("end_header") != std::string_view::npos) return std::nullopt;
+  if (magic != "ply") return std::nullopt;
+  // assimp ends the header only at a line starting with the token: "end_header" then a blank or
+  // the end ("end_header1 2 3" or "property end_header" loop as well).
+  constexpr std::string_view kEnd = "end_header";
+  for (std::size_t at = head.find(kEnd); at != std::string_view::npos; at = head.find(kEnd, at + 1)) {
+    std::size_t lineStart = at;
+    while (lineStart > 0 && (head[lineStart - 1] == ' ' || head[lineStart - 1] == '\t')) --lineStart;
+    const bool startsLine = lineStart == 0 || head[lineStart - 1] == '\n' || head[lineStart - 1] == '\r';
+    const std::size_t after = at + kEnd.size();
+    const bool endsToken = after == head.size() || std::isspace(static_cast<unsigned char>(head[after])) != 0;
+    if (startsLine && endsToken) return std::nullopt;
+  }
   return std::string("PLY header has no end_header line") +
          (head.size() >= kPlyHeaderSearchBytes ? " in its first 1 MiB" : "");
 }

@@ -92,6 +92,9 @@ std::vector<BadMesh> badMeshes() {
       // assimp 5.2's PLY reader loops forever without "end_header" (fuzz_mesh): refused first.
       {"robust_ply_no_end_header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n0\n1\n2\n",
        "end_header", false},
+      {"robust_ply_end_header_not_a_line.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty end_headerfloat x\nend_header1 2 3\n0\n1\n2\n",
+       "end_header", false},
       {"robust_points_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n", "no triangles", false},
       {"robust_lines_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n", "no triangles", false},
       {"robust_nan.obj", tetrahedronObj("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\n"), "NaN", false},
