@@ -12,7 +12,13 @@ seconds=${FUZZ_SECONDS:-60}
 # in the time depends on the machine); FUZZ_SEED=0 lets libFuzzer pick one for exploratory runs.
 seed=${FUZZ_SEED:-1}
 start=$(date +%s)
-cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g" \
+# ccache (when installed) makes a rebuild in a fresh clone cheap: paths are taken relative to here.
+launcher=()
+if command -v ccache >/dev/null; then
+  export CCACHE_BASEDIR="$(pwd)"
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B build-fuzz "${launcher[@]}" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -g" \
   -DHYDROTEX_FUZZ=ON -DHYDROTEX_SANITIZE=ON -DHYDROTEX_BUILD_TESTS=OFF -DHYDROTEX_BUILD_DEMOS=OFF \
   -DHYDROTEX_BUILD_GPU=OFF -DBUILD_SHARED_LIBS=OFF >/dev/null
 targets=(fuzz_mesh fuzz_scene)
