@@ -464,9 +464,9 @@ TEST_CASE("a dropped soft ball settles under drag; without drag it keeps heaving
     settings.effects = effects;
     REQUIRE(w.controller->addSoftBody(ball, settings).ok());
     double worst = 0.0;
-    for (int step = 0; step < 240 * 6; ++step) {
+    for (int step = 0; step < 240 * 4; ++step) {
       w.world.stepSimulation(btScalar(kDt), 1, btScalar(kDt));
-      if (step >= 240 * 5) worst = std::max(worst, std::abs(double(meanVelocity(*ball).y())));  // the last second
+      if (step >= 240 * 3) worst = std::max(worst, std::abs(double(meanVelocity(*ball).y())));  // the last second
     }
     statistics = w.controller->statistics();
     return worst;
@@ -474,9 +474,9 @@ TEST_CASE("a dropped soft ball settles under drag; without drag it keeps heaving
   ControllerStatistics withDrag, withoutDrag;
   const double damped = heaveSpeed(EffectSet{Effect::Buoyancy, Effect::Drag}, withDrag);
   const double undamped = heaveSpeed(EffectSet{Effect::Buoyancy}, withoutDrag);
-  INFO("heave speed in the 6th second: " << damped << " m/s with drag, " << undamped << " m/s without");
-  // Dropped from 0.2 m the ball enters at ~2 m/s. With drag its heave is gone after 5 s (below
-  // 1 cm/s, the controller's rest speed scale); without, it still heaves at several times that.
+  INFO("heave speed in the 4th second: " << damped << " m/s with drag, " << undamped << " m/s without");
+  // Dropped from 0.2 m the ball enters at ~2 m/s. With drag its heave is gone after 3 s (below
+  // 1 cm/s, half the controller's rest speed; measured 4 mm/s); without, it still heaves at several times that.
   CHECK(damped < 0.01);
   CHECK(undamped > 5.0 * damped);
   // Effects on demand: the drag pass runs only where listed, the pressure pass in both.
