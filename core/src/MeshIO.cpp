@@ -6,6 +6,7 @@
 #include "hydrotex/MeshIO.hpp"
 
 #include "MeshImportFileSystem.hpp"
+#include "PlyGuard.hpp"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -247,33 +248,6 @@ Expected<const aiScene*> importScene(Assimp::Importer& importer, const std::stri
   return processed;
 }
 
-/// Bytes of a file's head searched for the end of a PLY header (headers with comments are a few KB).
-constexpr std::size_t kPlyHeaderSearchBytes = std::size_t{1} << 20;
-
-/// assimp 5.2's PLY reader loops forever on a header without an "end_header" line (found by
-/// fuzz_mesh), so such a file never reaches it. `head`: the file's first bytes (up to
-/// kPlyHeaderSearchBytes). Returns the reason to refuse, or nothing.
-std::optional<std::string> plyHeaderTrap(std::string_view head) {
-  const std::size_t start = head.find_first_not_of(" \t\r\n");
-  if (start == std::string_view::npos || head.size() - start < 3) return std::nullopt;
-  std::string magic(head.substr(start, 3));
-  for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (magic != "ply") return std::nullopt;
-  // assimp ends the header only at a line starting with the token: "end_header" then a blank or
-  // the end ("end_header1 2 3" or "property end_header" loop as well).
-  constexpr std::string_view kEnd = "end_header";
-  for (std::size_t at = head.find(kEnd); at != std::string_view::npos; at = head.find(kEnd, at + 1)) {
-    std::size_t lineStart = at;
-    while (lineStart > 0 && (head[lineStart - 1] == ' ' || head[lineStart - 1] == '\t')) --lineStart;
-    const bool startsLine = lineStart == 0 || head[lineStart - 1] == '\n' || head[lineStart - 1] == '\r';
-    const std::size_t after = at + kEnd.size();
-    const bool endsToken = after == head.size() || std::isspace(static_cast<unsigned char>(head[after])) != 0;
-    if (startsLine && endsToken) return std::nullopt;
-  }
-  return std::string("PLY header has no end_header line") +
-         (head.size() >= kPlyHeaderSearchBytes ? " in its first 1 MiB" : "");
-}
-
 }  // namespace
 
 Expected<Mesh> loadMesh(const std::string& path) {
@@ -290,10 +264,19 @@ Expected<Mesh> loadMesh(const std::string& path) {
                                std::to_string(kMaxMeshFileBytes) + "-byte limit");
   std::ifstream file(path, std::ios::binary);
   if (!file.good()) return fileError(path, "file cannot be opened for reading");
-  std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(size, kPlyHeaderSearchBytes)), '\0');
+  // What assimp's PLY reader cannot be given is refused first (PlyGuard.hpp): from the head, or
+  // for an ASCII PLY, whose list counts only the whole file shows, from all of it.
+  std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(size, detail::kPlyHeadBytes)), '\0');
   file.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
-  if (const std::optional<std::string> trap = plyHeaderTrap(head)) return fileError(path, *trap);
+  if (detail::isAsciiPly(head) && head.size() < size) {
+    const std::size_t have = head.size();
+    head.resize(static_cast<std::size_t>(size));
+    file.read(head.data() + have, static_cast<std::streamsize>(head.size() - have));
+    head.resize(have + static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
+  }
+  if (const std::optional<std::string> trap = detail::plyTrap(head, static_cast<std::size_t>(size)))
+    return fileError(path, *trap);
 
   Assimp::Importer importer;
   importer.SetIOHandler(detail::MeshImportFileSystem::onDisk().release());  // the importer owns it
@@ -314,8 +297,8 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
                                });
   if (!hintIsExtension)
     return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
-  const std::string_view head(static_cast<const char*>(bytes), std::min(size, kPlyHeaderSearchBytes));
-  if (const std::optional<std::string> trap = plyHeaderTrap(head)) return fileError(name, *trap);
+  if (const std::optional<std::string> trap = detail::plyTrap(std::string_view(static_cast<const char*>(bytes), size), size))
+    return fileError(name, *trap);
   // Not ReadFileFromMemory: its file system serves the mesh bytes as the OBJ reader's material
   // library too (see MeshImportFileSystem.hpp). Without a hint, assimp detects the format.
   const std::string memoryName = formatHint.empty() ? std::string("mesh") : "mesh." + formatHint;

@@ -95,6 +95,15 @@ std::vector<BadMesh> badMeshes() {
       {"robust_ply_end_header_not_a_line.ply",
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty end_headerfloat x\nend_header1 2 3\n0\n1\n2\n",
        "end_header", false},
+      // Counts beyond the data: assimp would allocate for them first (11 GB for this list).
+      {"robust_ply_huge_list.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+       "33333333333333333333 0 1 2\n",
+       "more than the file", false},
+      {"robust_ply_huge_count.ply",
+       "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0000",
+       "more than the file", false},
       {"robust_points_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n", "no triangles", false},
       {"robust_lines_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n", "no triangles", false},
       {"robust_nan.obj", tetrahedronObj("v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\n"), "NaN", false},

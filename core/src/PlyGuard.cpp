@@ -1,0 +1,165 @@
+/// @file PlyGuard.cpp
+/// See PlyGuard.hpp. Only what assimp trips on is checked; everything else is its reader's job.
+
+#include "PlyGuard.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <sstream>
+#include <vector>
+
+namespace hydrotex::detail {
+namespace {
+
+bool isBlank(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
+
+std::string lowered(std::string_view text) {
+  std::string result(text);
+  for (char& c : result) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return result;
+}
+
+/// Bytes of one binary value of a PLY type name (0: not a type).
+std::size_t typeBytes(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+struct PlyProperty {
+  bool list = false;
+  std::size_t bytes = 1;  ///< binary size of a scalar, or of a list's count
+};
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+/// Offset of the byte after the header's "end_header" line, as assimp finds it (the token at a
+/// line start, then a blank or the end), or npos.
+std::size_t headerEnd(std::string_view bytes) {
+  constexpr std::string_view kEnd = "end_header";
+  for (std::size_t at = bytes.find(kEnd); at != std::string_view::npos; at = bytes.find(kEnd, at + 1)) {
+    std::size_t lineStart = at;
+    while (lineStart > 0 && (bytes[lineStart - 1] == ' ' || bytes[lineStart - 1] == '\t')) --lineStart;
+    const bool startsLine = lineStart == 0 || bytes[lineStart - 1] == '\n' || bytes[lineStart - 1] == '\r';
+    const std::size_t after = at + kEnd.size();
+    if (!startsLine || (after != bytes.size() && !isBlank(bytes[after]))) continue;
+    const std::size_t newline = bytes.find('\n', after);
+    return newline == std::string_view::npos ? bytes.size() : newline + 1;
+  }
+  return std::string_view::npos;
+}
+
+/// Reads whitespace-separated tokens of the body in order.
+class Tokens {
+ public:
+  explicit Tokens(std::string_view text) : text_(text) {}
+  std::optional<std::string_view> next() {
+    while (at_ < text_.size() && isBlank(text_[at_])) ++at_;
+    if (at_ >= text_.size()) return std::nullopt;
+    const std::size_t start = at_;
+    while (at_ < text_.size() && !isBlank(text_[at_])) ++at_;
+    return text_.substr(start, at_ - start);
+  }
+
+ private:
+  std::string_view text_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+bool isPly(std::string_view head) {
+  const std::size_t start = head.find_first_not_of(" \t\r\n");
+  return start != std::string_view::npos && head.size() - start >= 3 && lowered(head.substr(start, 3)) == "ply";
+}
+
+bool isAsciiPly(std::string_view head) {
+  if (!isPly(head)) return false;
+  const std::size_t end = headerEnd(head);
+  const std::string header = lowered(head.substr(0, end == std::string_view::npos ? head.size() : end));
+  return header.find("format ascii") != std::string::npos;
+}
+
+std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize) {
+  if (!isPly(bytes)) return std::nullopt;
+  const std::size_t end = headerEnd(bytes);
+  if (end == std::string_view::npos)
+    return std::string("PLY header has no end_header line") + (bytes.size() >= kPlyHeadBytes ? " in its first 1 MiB" : "");
+
+  std::vector<PlyElement> elements;
+  bool ascii = false;
+  std::istringstream header{std::string(bytes.substr(0, end))};
+  for (std::string line; std::getline(header, line);) {
+    std::istringstream words(lowered(line));
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "format") {
+      std::string format;
+      words >> format;
+      ascii = format == "ascii";
+    } else if (keyword == "element") {
+      PlyElement element;
+      words >> element.name >> element.count;
+      if (!words) return std::nullopt;  // malformed: assimp's reader says so
+      elements.push_back(element);
+    } else if (keyword == "property" && !elements.empty()) {
+      std::string type, countType;
+      words >> type;
+      PlyProperty property;
+      if (type == "list") {
+        words >> countType;
+        property.list = true;
+        property.bytes = std::max<std::size_t>(typeBytes(countType), 1);
+      } else {
+        property.bytes = std::max<std::size_t>(typeBytes(type), 1);
+      }
+      elements.back().properties.push_back(property);
+    }
+  }
+
+  // Each instance takes at least 2 bytes per property in ASCII (a digit and a blank), and its
+  // scalars plus list counts in binary: a count beyond the body is not data, only an allocation.
+  // An ASCII file's last value may lack its blank, hence one byte of grace.
+  const std::uint64_t body = fileSize > end ? fileSize - end : 0;
+  const std::uint64_t room = ascii ? body + 1 : body;
+  for (const PlyElement& element : elements) {
+    std::uint64_t instanceBytes = 0;
+    for (const PlyProperty& property : element.properties) instanceBytes += ascii ? 2 : property.bytes;
+    if (instanceBytes > 0 && element.count > room / instanceBytes)
+      return "PLY element '" + element.name + "' declares " + std::to_string(element.count) +
+             " entries, more than the file's " + std::to_string(body) + " bytes of data hold";
+  }
+  if (!ascii || bytes.size() < fileSize) return std::nullopt;
+
+  // ASCII lists: each count must fit in what is left of the file (at least 2 bytes a value).
+  Tokens tokens(bytes.substr(end));
+  for (const PlyElement& element : elements) {
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& property : element.properties) {
+        const std::optional<std::string_view> token = tokens.next();
+        if (!token) return std::nullopt;  // truncated: assimp's reader says so
+        if (!property.list) continue;
+        std::uint64_t count = 0;
+        const auto [stop, error] = std::from_chars(token->data(), token->data() + token->size(), count);
+        const bool tooLarge = error == std::errc::result_out_of_range || (!token->empty() && token->front() == '-');
+        if (!tooLarge && (error != std::errc() || stop != token->data() + token->size())) return std::nullopt;
+        if (tooLarge || count > room / 2)
+          return "PLY element '" + element.name + "' entry " + std::to_string(i) + " declares a list of " +
+                 std::string(*token) + " values, more than the file holds";
+        for (std::uint64_t k = 0; k < count; ++k)
+          if (!tokens.next()) return std::nullopt;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace hydrotex::detail
