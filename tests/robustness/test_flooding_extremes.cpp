@@ -57,10 +57,9 @@ FloodingQuery queryAt(double height, double dt) {
   return query;
 }
 
-/// One step with every invariant checked; returns the step's result. `checkDirection`: also that
-/// nothing enters a body wholly out of the liquid and nothing leaves one wholly under it.
-FloodingStepResult checkedStep(LiquidGraph& graph, const LiquidSurface& water, const FloodingQuery& query,
-                               bool checkDirection = true) {
+/// One step with every invariant checked, including that nothing enters a body wholly out of the
+/// liquid and nothing leaves one wholly under it; returns the step's result.
+FloodingStepResult checkedStep(LiquidGraph& graph, const LiquidSurface& water, const FloodingQuery& query) {
   const double before = graph.heldLiquid();
   const Expected<FloodingStepResult> step = graph.step(water, query);
   REQUIRE(step.ok());
@@ -78,10 +77,10 @@ FloodingStepResult checkedStep(LiquidGraph& graph, const LiquidSurface& water, c
   REQUIRE(step->inflow - step->outflow == Approx(graph.heldLiquid() - before).margin(1e-6 * graph.totalCapacity()));
   // Wholly out of the liquid nothing can enter; wholly under it (the top 1 m deep, every node's
   // level below the outside's) nothing can leave.
-  // 1e-12 of the capacity: rounding (a single compartment has no edge flows).
+  // 1e-12 of the capacity: rounding of the per-node surface terms.
   const double height = query.pose.translation.y();
-  if (checkDirection && height > 0.5) REQUIRE(step->inflow <= 1e-12 * graph.totalCapacity());
-  if (checkDirection && height < -0.5) REQUIRE(step->outflow <= 1e-12 * graph.totalCapacity());
+  if (height > 0.5) REQUIRE(step->inflow <= 1e-12 * graph.totalCapacity());
+  if (height < -0.5) REQUIRE(step->outflow <= 1e-12 * graph.totalCapacity());
   return *step;
 }
 
@@ -122,12 +121,10 @@ TEST_CASE("flooding: all the liquid enters or leaves in one huge step", "[robust
   CHECK(graph->heldLiquid() == Approx(0.0).margin(1e-6 * capacity));
 }
 
-// FINDING (core/src/LiquidGraph.cpp, not fixed here): in graphs of several nodes the reported
-// inflow and outflow (each node's surface exchange: its change plus what it passed along edges)
-// are wrong at long steps, while the held liquid stays within bounds and balances: wholly out of
-// the water the all-white box reports inflow 0.04 m^3 at dt = 1 s, 533 m^3 at 1e3 s and 5e5 m^3
-// at 1e6 s (capacity 1.2 m^3), and wholly under it the junction graph reports outflow 0.14 m^3 at
-// 1 s; at 1e-4 s it is rounding (2e-14). So the direction check is off for these two graphs.
+// Found here and fixed in LiquidGraph::step: multi-node graphs once reported their inflow and
+// outflow as each node's change less its edge flows, which between nodes held full or empty are
+// rounding times huge conductances at long steps: a dry, drained all-white box reported 5e5 m^3 of
+// inflow at dt = 1e6 s (capacity 1.2 m^3). Now every step here is checked for direction too.
 TEST_CASE("flooding: a zero-capacity junction and an all-white wall under huge steps", "[robustness][hard][flooding]") {
   const Mesh box = primitives::box(Eigen::Vector3d(1.2, 1, 1));
   const SurfaceTextures tex = texturesOf(box, 64);
@@ -143,7 +140,7 @@ TEST_CASE("flooding: a zero-capacity junction and an all-white wall under huge s
     REQUIRE(graph.ok());
     for (const double dt : {1e-4, 1.0, 1e3, 1e6}) {
       CAPTURE(dt);
-      for (int i = 0; i < 50; ++i) checkedStep(*graph, water, queryAt(i % 2 == 0 ? -1.5 : 1.5, dt), false);
+      for (int i = 0; i < 50; ++i) checkedStep(*graph, water, queryAt(i % 2 == 0 ? -1.5 : 1.5, dt));
       CHECK(graph->nodes()[1].liquid == 0.0);  // it can hold nothing, whatever the step
     }
   }
@@ -152,7 +149,7 @@ TEST_CASE("flooding: a zero-capacity junction and an all-white wall under huge s
     REQUIRE(graph.ok());
     for (const double dt : {1e-4, 1.0, 1e3, 1e6}) {
       CAPTURE(dt);
-      for (int i = 0; i < 50; ++i) checkedStep(*graph, water, queryAt(i % 2 == 0 ? -1.5 : 1.5, dt), false);
+      for (int i = 0; i < 50; ++i) checkedStep(*graph, water, queryAt(i % 2 == 0 ? -1.5 : 1.5, dt));
     }
   }
 }

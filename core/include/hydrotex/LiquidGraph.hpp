@@ -152,7 +152,7 @@ class LiquidGraph {
   // Per-step state and scratch.
   std::vector<Eigen::Vector3d> centroids_;
   std::vector<double> levels_, exchange_;
-  std::vector<double> h0_, area_, q0_, slopeInside_, slopeOutside_, bottom_, top_, delta_;
+  std::vector<double> h0_, area_, q0_, pushedIn_, slopeAll_, slopeInside_, slopeOutside_, bottom_, top_, delta_;
   std::vector<int> mode_;
   Eigen::MatrixXd matrix_;
   Eigen::VectorXd rhs_, head_;
