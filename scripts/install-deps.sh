@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libassimp-dev libbullet-dev libstb-dev catch2 nlohmann-json3-dev libcli11-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev
+  libglfw3-dev xvfb xauth
   ffmpeg gnuplot-nox
   clang-14 libclang-rt-14-dev
 )

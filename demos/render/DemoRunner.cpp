@@ -128,6 +128,10 @@ std::optional<std::string> missingRequirement(const DemoDescription& demo) {
   return std::nullopt;
 }
 
+PictureSize pictureSize(const DemoDescription& demo, const DemoOptions& options) {
+  return PictureSize{options.width.value_or(options.smoke ? 160 : demo.width), options.height.value_or(options.smoke ? 90 : demo.height)};
+}
+
 int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   std::printf("%s\n", demo.title.c_str());
   if (!demo.figure.empty()) std::printf("  reproduces %s\n", demo.figure.c_str());
@@ -158,8 +162,9 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     return 1;
   }
   RendererSettings rendererSettings;
-  rendererSettings.width = options.width.value_or(options.smoke ? 160 : demo.width);
-  rendererSettings.height = options.height.value_or(options.smoke ? 90 : demo.height);
+  const PictureSize size = pictureSize(demo, options);
+  rendererSettings.width = size.width;
+  rendererSettings.height = size.height;
   Expected<std::unique_ptr<GlRenderer>> renderer = GlRenderer::create(rendererSettings);
   if (!renderer) {
     std::fprintf(stderr, "hydrotex_demo: %s\n", renderer.error().message.c_str());
@@ -338,6 +343,7 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
       followIndex >= 0 ? sceneWorld.controller().meshTransform(sceneWorld.bodies()[std::size_t(followIndex)]) : std::nullopt;
   DebugLineCollector lines;
   double renderSeconds = 0.0;
+  int framesDone = 0;
 
   for (int frame = 0; frame < frameCount; ++frame) {
     if (frame > 0) {
@@ -454,8 +460,41 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
       return 1;
     }
     renderSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - renderStart).count();
+    framesDone = frame + 1;
+    bool goOn = true;
+    if (options.showFrame) {
+      // The viewer draws in its own context (a window's GLX one), which cannot be made current
+      // while this EGL context is (libglvnd: X error BadAccess, which ends the process); the
+      // renderer's context is made current again afterwards.
+      if (const Status released = (*context)->release(); !released) {
+        std::fprintf(stderr, "\nhydrotex_demo: %s\n", released.error().message.c_str());
+        return 1;
+      }
+      goOn = options.showFrame(*picture, time);
+      if (const Status current = (*context)->makeCurrent(); !current) {
+        std::fprintf(stderr, "\nhydrotex_demo: %s\n", current.error().message.c_str());
+        return 1;
+      }
+    }
     if (std::find(sheetChoice.begin(), sheetChoice.end(), frame) != sheetChoice.end()) sheetFrames.push_back(std::move(*picture));
     printProgress(frame + 1, frameCount, time, std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count());
+    if (!goOn) break;
+  }
+  if (framesDone < frameCount) {
+    if (isatty(fileno(stderr)) != 0) std::fprintf(stderr, "\n");  // end the progress bar's line
+    std::printf("  stopped after %d of %d frames\n", framesDone, frameCount);
+    // The sheet's frames are chosen again over the frames there are, read back from disk.
+    sheetFrames.clear();
+    for (const int frame : chooseSheetFrames(framesDone, demo.sheetFrames)) {
+      char name[64];
+      std::snprintf(name, sizeof name, "frame_%04d.png", frame);
+      Expected<RgbImage> written = loadRgbImage((outDir / "frames" / name).string());
+      if (!written) {
+        std::fprintf(stderr, "hydrotex_demo: %s\n", written.error().message.c_str());
+        return 1;
+      }
+      sheetFrames.push_back(std::move(*written));
+    }
   }
 
   // Contact sheet and video.
@@ -480,7 +519,7 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   // The figures a viewer wants.
   std::ostringstream text;
   char line[256];
-  std::snprintf(line, sizeof line, "  time simulated   %.2f s (%d frames, %lld steps of %.4f s)\n", sceneWorld.time(), frameCount,
+  std::snprintf(line, sizeof line, "  time simulated   %.2f s (%d frames, %lld steps of %.4f s)\n", sceneWorld.time(), framesDone,
                 static_cast<long long>(std::llround(sceneWorld.time() / scene->dt)), scene->dt);
   text << line;
   std::snprintf(line, sizeof line, "  time taken       %.1f s (rendering and writing frames %.1f s)\n", wallSeconds, renderSeconds);

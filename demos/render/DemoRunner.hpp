@@ -4,10 +4,12 @@
 /// PNG frames, an MP4 and a contact sheet, prints a progress bar and, at the end, the figures a
 /// viewer wants (time simulated and taken, sink time, list angle, liquid held).
 
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "DemoDescription.hpp"
+#include "GlRenderer.hpp"
 
 namespace hydrotex::render {
 
@@ -22,7 +24,20 @@ struct DemoOptions {
   bool video = true;                ///< make the MP4 (needs ffmpeg)
   std::optional<int> width;         ///< pixels, overrides the demo's size
   std::optional<int> height;        ///< pixels
+  /// Called with each frame once it is written (row 0 at the top) and the simulated time (s), with
+  /// no GL context current; returns false to stop the run early (e.g. its window was closed): the
+  /// frames so far are kept and the video, contact sheet and figures are made from them. Empty: none.
+  std::function<bool(const RgbImage& picture, double time)> showFrame;
 };
+
+/// A picture's size in pixels.
+struct PictureSize {
+  int width = 0;   ///< pixels
+  int height = 0;  ///< pixels
+};
+
+/// The size the frames of `demo` are drawn at: --size, else 160x90 for --smoke, else the demo's.
+PictureSize pictureSize(const DemoDescription& demo, const DemoOptions& options);
 
 /// Why a demo cannot run in this build (an effect it needs is missing), or empty when it can.
 std::optional<std::string> missingRequirement(const DemoDescription& demo);

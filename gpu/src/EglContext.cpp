@@ -157,4 +157,12 @@ Status EglContext::makeCurrent() const {
   return Ok{};
 }
 
+Status EglContext::release() const {
+  auto display = static_cast<EGLDisplay>(display_);
+  if (eglGetCurrentContext() != static_cast<EGLContext>(context_)) return Ok{};
+  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
+    return Error{"EGL context: releasing it failed (" + eglErrorName(eglGetError()) + ")"};
+  return Ok{};
+}
+
 }  // namespace hydrotex::gpu

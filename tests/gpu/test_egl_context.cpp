@@ -53,6 +53,10 @@ TEST_CASE("a headless context opens and reports its renderer", "[egl]") {
   // "4.5 (Core Profile) Mesa 22.3.6" or "4.6.0 NVIDIA 550.54": major.minor first.
   const int version = (c.version()[0] - '0') * 10 + (c.version()[2] - '0');
   CHECK(version >= 43);
+  // release() (before a window's GLX context is made current) and back; twice is harmless.
+  CHECK(c.release().ok());
+  CHECK(c.release().ok());
+  CHECK(c.makeCurrent().ok());
   WARN("EGL platform " << c.platform() << ", renderer " << c.renderer() << ", GL " << c.version()
                        << (c.hasShaderFp64() ? ", fp64" : ", no fp64"));
 

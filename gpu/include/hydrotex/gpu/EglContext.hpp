@@ -33,6 +33,10 @@ class EglContext {
 
   /// Makes the context current on the calling thread. Error when EGL refuses.
   Status makeCurrent() const;
+  /// Leaves the calling thread with no EGL context current (no-op when this one is not current),
+  /// so that another window system's context (GLX, e.g. a GLFW window) can be made current:
+  /// libglvnd refuses a context of a second API while one of the first is still current.
+  Status release() const;
   /// GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
   const std::string& renderer() const { return renderer_; }
   /// GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6".
