@@ -7,14 +7,15 @@
 # the renderer). Not run here, each with its reason:
 #   package_find_package  installs and builds a consumer without the sanitizer runtime (packaging,
 #                         run in build/);
-#   demo_smoke_*          render whole demos through Mesa's llvmpipe, minutes each when
-#                         instrumented; the physics they drive is what the suites cover here.
+#   demo_*                render whole demos through Mesa's llvmpipe (smoke tests, the --window
+#                         runs under Xvfb), minutes each when instrumented; the physics they drive
+#                         is what the suites cover here.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 start=$(date +%s)
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" -DHYDROTEX_SANITIZE=ON >/dev/null
-excluded='^(package_find_package|demo_smoke_.*)$'
+excluded='^(package_find_package|demo_.*)$'
 known_targets=$(cmake --build build-asan --target help | sed -n 's/^\.\.\. \([A-Za-z0-9_]*\).*/\1/p')
 targets=(hydrotex hydrotex_accuracy_report)
 for test in $(ctest --test-dir build-asan -N | sed -n 's/^ *Test *#[0-9]*: //p'); do
