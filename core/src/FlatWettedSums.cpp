@@ -8,9 +8,8 @@
 
 namespace hydrotex {
 
-HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& in, double surfaceHeight, double density,
-                                          const HydrostaticsQuery& query) {
-  detail::WettedSums sums;
+detail::WettedSums detail::wettedSumsOf(const FlatWettedSums& in) {
+  WettedSums sums;
   sums.sumDA[1] = in.sumDAy;
   sums.sumDXAy = in.sumDXAy;
   sums.sumDZAy = in.sumDZAy;
@@ -23,6 +22,12 @@ HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& in, double surfa
   sums.sumZZAy = in.sumZZAy;
   sums.wettedArea = in.wettedArea;
   sums.volumeScale = in.volumeScale;
+  return sums;
+}
+
+HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& in, double surfaceHeight, double density,
+                                          const HydrostaticsQuery& query) {
+  const detail::WettedSums sums = detail::wettedSumsOf(in);
   const Eigen::Vector3d origin(query.pose.translation.x(), surfaceHeight, query.pose.translation.z());
   return detail::finishHydrostatics(sums, origin, density, query, detail::ForceModel::Archimedes, true);
 }

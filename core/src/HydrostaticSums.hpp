@@ -18,6 +18,10 @@
 #include "hydrotex/Hydrostatics.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
 
+namespace hydrotex {
+struct FlatWettedSums;  // ComputeBackend.hpp
+}
+
 namespace hydrotex::detail {
 
 /// Sums over the wetted surface in a world frame translated to `origin`.
@@ -127,5 +131,8 @@ enum class ForceModel {
 /// height used for stiffness. `hasWaterplane` false for media without a free surface.
 HydrostaticsResult finishHydrostatics(const WettedSums& sums, const Eigen::Vector3d& origin, double density,
                                       const HydrostaticsQuery& query, ForceModel forceModel, bool hasWaterplane);
+
+/// The wetted sums a backend added up outside core (FlatWettedSums.cpp), with no pressure sums.
+WettedSums wettedSumsOf(const FlatWettedSums& in);
 
 }  // namespace hydrotex::detail

@@ -11,19 +11,7 @@ namespace hydrotex {
 HydrostaticsResult finishPressureHydrostatics(const FlatWettedSums& in, const PressureSums& pressure,
                                               const Eigen::Vector3d& origin, double density,
                                               const HydrostaticsQuery& query, bool hasWaterplane) {
-  detail::WettedSums sums;
-  sums.sumDA[1] = in.sumDAy;
-  sums.sumDXAy = in.sumDXAy;
-  sums.sumDZAy = in.sumDZAy;
-  sums.sumYB = in.sumYB;
-  sums.sumAy = in.sumAy;
-  sums.sumXAy = in.sumXAy;
-  sums.sumZAy = in.sumZAy;
-  sums.sumXXAy = in.sumXXAy;
-  sums.sumXZAy = in.sumXZAy;
-  sums.sumZZAy = in.sumZZAy;
-  sums.wettedArea = in.wettedArea;
-  sums.volumeScale = in.volumeScale;
+  detail::WettedSums sums = detail::wettedSumsOf(in);
   for (int k = 0; k < 3; ++k) {
     sums.pressureForce[k] = pressure.force[k];
     sums.pressureTorque[k] = pressure.torque[k];

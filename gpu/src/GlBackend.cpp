@@ -678,16 +678,20 @@ class GlBackend final : public ComputeBackend {
     glUniform1ui(program.uniform("bodyChunkBegin"), body.hydroChunkBegin);
     glUniform1ui(program.uniform("triangleCount"), d.triangleCount);
     glUniform1ui(program.uniform("pieceCount"), d.pieceCount);
-    std::uint32_t c = body.hydroChunkBegin;
-    while (c < body.hydroChunkEnd) {
-      std::uint32_t end = c + 1;
-      while (end < body.hydroChunkEnd && hydroStorage_.chunkSegment[end] == hydroStorage_.chunkSegment[c]) ++end;
-      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.bind(0);
-      glUniform1ui(program.uniform("chunkBase"), c - body.hydroChunkBegin);
-      glUniform1ui(program.uniform("chunkCount"), end - c);
-      dispatchGroups(end - c);
-      c = end;
-    }
+    // One dispatch per run of the body's chunks that lie in one texel segment (binding 0).
+    const auto dispatchPerSegment = [](const GlProgram& shader, const auto& storage, std::uint32_t begin,
+                                       std::uint32_t endChunk) {
+      for (std::uint32_t c = begin; c < endChunk;) {
+        std::uint32_t end = c + 1;
+        while (end < endChunk && storage.chunkSegment[end] == storage.chunkSegment[c]) ++end;
+        storage.segments[storage.chunkSegment[c]].texels.bind(0);
+        glUniform1ui(shader.uniform("chunkBase"), c - begin);
+        glUniform1ui(shader.uniform("chunkCount"), end - c);
+        dispatchGroups(end - c);
+        c = end;
+      }
+    };
+    dispatchPerSegment(program, hydroStorage_, body.hydroChunkBegin, body.hydroChunkEnd);
     // The mass texels and block sums from the same frames (deform_mass.comp), one dispatch per
     // mass segment the body's blocks lie in.
     const GlProgram& mass = programs_.deformMass;
@@ -699,16 +703,7 @@ class GlBackend final : public ComputeBackend {
     glUniform1ui(mass.uniform("pieceCount"), d.pieceCount);
     glUniform3f(mass.uniform("referencePoint"), float(body.referencePoint.x()), float(body.referencePoint.y()),
                 float(body.referencePoint.z()));
-    c = body.massChunkBegin;
-    while (c < body.massChunkEnd) {
-      std::uint32_t end = c + 1;
-      while (end < body.massChunkEnd && massStorage_.chunkSegment[end] == massStorage_.chunkSegment[c]) ++end;
-      massStorage_.segments[massStorage_.chunkSegment[c]].texels.bind(0);
-      glUniform1ui(mass.uniform("chunkBase"), c - body.massChunkBegin);
-      glUniform1ui(mass.uniform("chunkCount"), end - c);
-      dispatchGroups(end - c);
-      c = end;
-    }
+    dispatchPerSegment(mass, massStorage_, body.massChunkBegin, body.massChunkEnd);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
 

@@ -14,32 +14,16 @@
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
+#include "TestSurfaces.hpp"
 
 using namespace hydrotex;
+using hydrotex::test::floorHole;
+using hydrotex::test::texturesOf;
 
 namespace {
 
 constexpr double kGravity = 9.81;
 constexpr double kViscosity = 1.0e-3;
-
-SurfaceTextures texturesOf(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  return evaluateSurface(*bake, mesh, mesh.uv);
-}
-
-/// 1 on the box's floor within |x - xCentre|, |z| < halfWidth (a hole), 0 elsewhere.
-std::vector<float> floorHole(const SurfaceTextures& tex, double halfWidth, double xCentre = 0.0) {
-  std::vector<float> values(tex.size(), 0.0f);
-  for (std::size_t t = 0; t < tex.size(); ++t) {
-    const Eigen::Vector3f n = tex.areaVector[t] / std::max(tex.area[t], 1e-30f);
-    const Eigen::Vector3f p = tex.position[t];
-    if (n.y() < -0.99f && std::abs(p.x() - xCentre) < halfWidth && std::abs(p.z()) < halfWidth) values[t] = 1.0f;
-  }
-  return values;
-}
 
 /// One compartment (the whole box) fed by the hole.
 ManualLiquidGraph oneNode() {

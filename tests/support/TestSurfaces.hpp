@@ -1,0 +1,15 @@
+#pragma once
+// Surface textures that several suites bake the same way.
+#include <vector>
+
+#include "hydrotex/Mesh.hpp"
+#include "hydrotex/SurfaceBake.hpp"
+
+namespace hydrotex::test {
+/// PT/VAT of `mesh` baked from its own UVs at resolution x resolution texels (the test fails
+/// when the bake does).
+SurfaceTextures texturesOf(const Mesh& mesh, int resolution);
+/// 1 on a box's floor (texels facing down) within |x - xCentre|, |z| < halfWidth (m): a hole in
+/// a permeability map; 0 elsewhere.
+std::vector<float> floorHole(const SurfaceTextures& textures, double halfWidth, double xCentre = 0.0);
+}  // namespace hydrotex::test
