@@ -1,5 +1,6 @@
 // A changing mass model (DESIGN.md "Mass model"; paper section 2.3 and figure 13). The texel part
-// (solid, shell, density map) is one TextureMassIntegrator pass; point masses are added with the
+// (solid, shell, density map) is one TextureMassIntegrator pass (or, for a deforming body that
+// follows triangles, TriangleMassIntegrator's per-triangle sums); point masses are added with the
 // parallel-axis theorem (Steiner): about the combined centre C, a part of mass m, centre c and
 // central inertia I_c contributes I_c + m (|r|^2 Id - r r^T), r = c - C (Goldstein, Classical
 // Mechanics, 3rd ed., eq. 5.17).
@@ -69,13 +70,14 @@ Status MassModel::setShellDensity(double density) {
 Status MassModel::setTexelDensity(std::vector<float> density) { return swapTexelDensity(density); }
 
 Status MassModel::swapTexelDensity(std::vector<float>& density) {
-  if (!density.empty() && density.size() != integrator_.size())
+  if (!density.empty() && density.size() != texelCount())
     return Error{"density map has " + std::to_string(density.size()) + " texels, the bake has " +
-                 std::to_string(integrator_.size())};
+                 std::to_string(texelCount())};
   // Values are checked by the texel pass itself (TextureMassIntegrator::evaluate tracks the lowest
   // density and the sums' finiteness at no extra cost): a separate pass here would cost a third
   // of the texel pass for a map replaced every step.
   distributed_.texelDensity.swap(density);
+  mapPending_ = true;
   distributedRevision_ = ++revision_;
   return Ok{};
 }
@@ -121,6 +123,8 @@ void MassModel::advanceTo(double time) {
 }
 
 Status MassModel::setGeometry(const SurfaceTextures& textures) {
+  if (triangles_)
+    return Error{"mass model: it follows triangles (followTriangles), give setGeometry the moved mesh"};
   if (!distributed_.texelDensity.empty() && textures.size() != integrator_.size())
     return Error{"deformed surface has " + std::to_string(textures.size()) + " texels, the density map " +
                  std::to_string(integrator_.size())};
@@ -129,11 +133,45 @@ Status MassModel::setGeometry(const SurfaceTextures& textures) {
   return Ok{};
 }
 
+Status MassModel::followTriangles(const SurfaceBake& bake, const UvLayout& layout, const Mesh& mesh) {
+  Expected<TriangleMassIntegrator> created = TriangleMassIntegrator::create(bake, layout, referencePoint_);
+  if (!created) return created.error();
+  if (!distributed_.texelDensity.empty() && distributed_.texelDensity.size() != created->texelCount())
+    return Error{"mass model: the density map has " + std::to_string(distributed_.texelDensity.size()) +
+                 " texels, the bake has " + std::to_string(created->texelCount())};
+  if (Status s = created->update(mesh); !s) return s.error();
+  triangles_.emplace(std::move(created).value());
+  mapPending_ = true;  // the map (if any) is yet to be handed over
+  // The texel pass is not used any more: release its per-texel arrays.
+  integrator_ = TextureMassIntegrator(SurfaceTextures{}, referencePoint_);
+  distributedRevision_ = ++revision_;
+  return Ok{};
+}
+
+Status MassModel::setGeometry(const Mesh& mesh) {
+  if (!triangles_) return Error{"mass model: setGeometry(mesh) needs followTriangles first"};
+  // A failed update leaves the integrator without geometry: the next properties() says so.
+  Status updated = triangles_->update(mesh);
+  distributedRevision_ = ++revision_;
+  return updated;
+}
+
+Expected<MassProperties> MassModel::evaluateTriangles() {
+  if (mapPending_) {
+    // A new map: one pass over the texel pieces (values checked there). An empty map costs nothing.
+    if (!distributed_.texelDensity.empty()) ++texelPasses_;
+    if (Status s = triangles_->setTexelDensity(distributed_.texelDensity); !s) return s.error();
+    mapPending_ = false;
+  }
+  ++trianglePasses_;
+  return triangles_->evaluate(distributed_.solidDensity, distributed_.shellDensity);
+}
+
 Expected<MassProperties> MassModel::properties() {
   if (evaluatedCombined_ == revision_) return combined_;
   if (evaluatedDistributed_ != distributedRevision_) {
-    Expected<MassProperties> part = integrator_.evaluate(distributed_);
-    ++texelPasses_;
+    Expected<MassProperties> part = triangles_ ? evaluateTriangles() : integrator_.evaluate(distributed_);
+    if (!triangles_) ++texelPasses_;
     if (!part) return part.error();
     distributedProperties_ = *part;
     evaluatedDistributed_ = distributedRevision_;

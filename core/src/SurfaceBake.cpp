@@ -9,6 +9,8 @@
 #include <cmath>
 #include <string>
 
+#include "TexelClipping.hpp"
+
 namespace hydrotex {
 
 Status BakeSettings::validate() const {
@@ -25,41 +27,6 @@ namespace {
 
 // UVs may stray this far outside [0,1] (rounding in atlas generators); what lies outside is cut.
 constexpr double kUvSlack = 1e-6;
-
-// A convex polygon in texel coordinates; the square (4) clipped by 3 half-planes has at most 7
-// corners.
-struct Polygon {
-  std::array<double, 8> x{};
-  std::array<double, 8> y{};
-  int count = 0;
-};
-
-// Edge function of one triangle edge, positive inside: e(x, y) = a x + b y + c.
-struct HalfPlane {
-  double a = 0.0, b = 0.0, c = 0.0;
-  double at(double x, double y) const { return a * x + b * y + c; }
-};
-
-// Sutherland-Hodgman step: keeps the part of `in` where the edge function is >= 0.
-void clipAgainst(const Polygon& in, const HalfPlane& plane, Polygon& out) {
-  out.count = 0;
-  for (int i = 0; i < in.count; ++i) {
-    const int j = (i + 1 == in.count) ? 0 : i + 1;
-    const double ei = plane.at(in.x[i], in.y[i]);
-    const double ej = plane.at(in.x[j], in.y[j]);
-    if (ei >= 0.0) {
-      out.x[out.count] = in.x[i];
-      out.y[out.count] = in.y[i];
-      ++out.count;
-    }
-    if ((ei >= 0.0) != (ej >= 0.0)) {
-      const double t = ei / (ei - ej);
-      out.x[out.count] = in.x[i] + t * (in.x[j] - in.x[i]);
-      out.y[out.count] = in.y[i] + t * (in.y[j] - in.y[i]);
-      ++out.count;
-    }
-  }
-}
 
 // Texel the piece lands in (its key in tile order) and the piece itself.
 struct KeyedPiece {
@@ -144,15 +111,7 @@ Expected<SurfaceBake> bakeSurface(const Mesh& mesh, const UvLayout& layout, cons
       continue;  // degenerate in 3D too: it carries nothing
     }
     // Edge functions, oriented so that the inside is positive whatever the UV winding.
-    const double orientation = twiceSigned > 0.0 ? 1.0 : -1.0;
-    std::array<HalfPlane, 3> planes;
-    for (int k = 0; k < 3; ++k) {
-      const int a = k, b = (k + 1) % 3;
-      // cross(b - a, p - a) = (bx-ax)(py-ay) - (by-ay)(px-ax)
-      planes[k].a = -(py[b] - py[a]) * orientation;
-      planes[k].b = (px[b] - px[a]) * orientation;
-      planes[k].c = ((py[b] - py[a]) * px[a] - (px[b] - px[a]) * py[a]) * orientation;
-    }
+    const std::array<detail::HalfPlane, 3> planes = detail::triangleHalfPlanes(px, py, twiceSigned);
     // Barycentric coordinates of a point (affine in x, y): b1 = (d2 x ...) solved once here.
     const double inverseTwice = 1.0 / twiceSigned;
     auto bary = [&](double x, double y, double& b1, double& b2) {
@@ -190,15 +149,12 @@ Expected<SurfaceBake> bakeSurface(const Mesh& mesh, const UvLayout& layout, cons
         piece.triangle = triangleIndex;
         double pieceArea = 1.0, cx = column + 0.5, cy = row + 0.5;
         if (!whole) {
-          Polygon a, b;
-          a.count = 4;
-          a.x = {x0, x1, x1, x0};
-          a.y = {y0, y0, y1, y1};
-          Polygon* current = &a;
-          Polygon* next = &b;
+          detail::Polygon a = detail::texelSquare(column, row), b;
+          detail::Polygon* current = &a;
+          detail::Polygon* next = &b;
           for (int k = 0; k < 3 && current->count > 0; ++k) {
             if (!cuts[k]) continue;
-            clipAgainst(*current, planes[k], *next);
+            detail::clipAgainst(*current, planes[k], *next);
             std::swap(current, next);
           }
           // Shoelace area and centroid, relative to the texel corner to keep the digits.

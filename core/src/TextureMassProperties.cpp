@@ -18,6 +18,7 @@
 #include <type_traits>
 
 #include "hydrotex/MassProperties.hpp"
+#include "MassMoments.hpp"
 #include "Vector3Lanes.hpp"
 
 namespace hydrotex {
@@ -357,18 +358,8 @@ Expected<MassProperties> TextureMassIntegrator::evaluate(const TextureMassModel&
 }
 
 MassProperties TextureMassIntegrator::finish(const Moments& moments) const {
-  MassProperties result;
-  result.mass = moments.mass;
-  result.volume = moments.volume;
-  if (!(moments.mass > 0.0)) {
-    result.centerOfMass = referencePoint_;
-    return result;
-  }
-  const Eigen::Vector3d offset = moments.first / moments.mass;  // centre relative to the reference point
-  result.centerOfMass = referencePoint_ + offset;
-  const Eigen::Matrix3d central = moments.second - moments.mass * offset * offset.transpose();
-  result.inertia = central.trace() * Eigen::Matrix3d::Identity() - central;
-  return result;
+  return detail::massPropertiesFromMoments({moments.mass, moments.first, moments.second, moments.volume},
+                                           referencePoint_);
 }
 
 MassProperties textureMassProperties(const SurfaceTextures& textures, const TextureMassModel& model) {

@@ -167,7 +167,8 @@ void BuoyancyController::deform(FloatingBody& floating) {
   // In place, allocation-free: the evaluator, the hydrostatics and the mass model reuse their buffers.
   state.evaluator.evaluate(*state.current, state.textures);
   if (floating.texture && !floating.texture->update(state.textures)) ++statistics_.failedQueries;
-  if (floating.massModel && !floating.massModel->setGeometry(state.textures)) ++statistics_.failedQueries;
+  // The mass model sums over the moved triangles (followTriangles at registration): O(triangles).
+  if (floating.massModel && !floating.massModel->setGeometry(*state.current)) ++statistics_.failedQueries;
   if (settings.effects.has(Effect::Drag)) {
     floating.dragPatches = mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
                                                       settings.dragPatchRadiusFraction * floating.referenceLength);

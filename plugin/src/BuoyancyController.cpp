@@ -225,6 +225,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     if (wantsMassModel) {
       // Mass model (DESIGN.md "Mass model"): cones from the bounding box's centre.
       MassModel& model = floating->massModel.emplace(geometry->textures, floating->boundsCenter);
+      // A deforming body's mass follows its moved vertices per triangle (O(triangles) a step,
+      // exact for uniform solids and shells) instead of a pass over its texels.
+      if (deforming) {
+        if (Status s = model.followTriangles(geometry->bake, geometry->atlas.layout, mesh); !s)
+          return Error{"deformation: " + s.error().message};
+      }
       if (Status s = model.setSolidDensity(density); !s) return Error{"density: " + s.error().message};
       if (Status s = model.setShellDensity(settings.shellDensity); !s) return Error{"shellDensity: " + s.error().message};
       if (settings.densityMap) {

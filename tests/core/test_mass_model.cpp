@@ -1,5 +1,6 @@
 // MassModel: solid, shell, density maps replaced at run time, point masses on paths, combined
 // with the parallel-axis theorem, and recomputed only when something changed.
+#include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -168,4 +169,104 @@ TEST_CASE("mass model: bad values are errors that name them") {
   CHECK_FALSE(model.setPointMassPosition(4, Eigen::Vector3d::Zero()).ok());
   REQUIRE(model.setSolidDensity(0.0).ok());
   CHECK_FALSE(model.properties().ok());  // nothing left: zero mass
+}
+
+TEST_CASE("mass model: a deforming body that follows triangles recomputes per moved mesh, exactly") {
+  const Mesh rest = prim::torus(1.0, 0.3, 32, 12);
+  BakeSettings settings;
+  settings.width = settings.height = 64;
+  auto bake = bakeSurface(rest, rest.uv, settings);
+  REQUIRE(bake.ok());
+  const Eigen::Vector3d reference(0.0, 0.05, 0.0);
+  MassModel model(evaluateSurface(*bake, rest, rest.uv), reference);
+  REQUIRE(model.setSolidDensity(400.0).ok());
+  REQUIRE(model.setShellDensity(2.0).ok());
+  REQUIRE(model.properties().ok());
+  CHECK(model.texelPasses() == 1);
+  CHECK_FALSE(model.followsTriangles());
+
+  REQUIRE(model.followTriangles(*bake, rest.uv, rest).ok());
+  CHECK(model.followsTriangles());
+  CHECK(model.texelCount() == bake->coveredCount());
+  auto moved = [&](double amount) {
+    Mesh out = rest;
+    for (Eigen::Vector3d& p : out.positions) p = p.cwiseProduct(Eigen::Vector3d(1.0 + amount, 1.0 - 0.5 * amount, 1.0));
+    return out;
+  };
+  // Solid and shell exactly polyhedral (sums in double over 768 triangles: 1e-9, as in
+  // test_triangle_mass_integrator.cpp).
+  auto checkExact = [&](const Mesh& mesh, const MassProperties& got) {
+    const auto solid = polyhedralMassProperties(mesh, 400.0);
+    REQUIRE(solid.ok());
+    double area = 0.0;
+    for (const Eigen::Vector3i& t : mesh.triangles)
+      area += 0.5 * (mesh.positions[std::size_t(t[1])] - mesh.positions[std::size_t(t[0])])
+                        .cross(mesh.positions[std::size_t(t[2])] - mesh.positions[std::size_t(t[0])])
+                        .norm();
+    CHECK(got.mass == Approx(solid->mass + 2.0 * area).epsilon(1e-9));
+    CHECK(got.volume == Approx(solid->volume).epsilon(1e-9));
+    CHECK(model.volume() == Approx(solid->volume).epsilon(1e-9));
+  };
+  const auto atRest = model.properties();
+  REQUIRE(atRest.ok());
+  checkExact(rest, *atRest);
+  CHECK(model.trianglePasses() == 1);
+  CHECK(model.texelPasses() == 1);  // no texel pass: the triangle sums
+
+  // Nothing changed: nothing recomputed.
+  const std::uint64_t revision = model.revision();
+  for (int i = 0; i < 5; ++i) REQUIRE(model.properties().ok());
+  CHECK(model.revision() == revision);
+  CHECK(model.trianglePasses() == 1);
+
+  // A moved mesh: one triangle pass, no texel pass.
+  const Mesh stretched = moved(0.4);
+  REQUIRE(model.setGeometry(stretched).ok());
+  const auto after = model.properties();
+  REQUIRE(after.ok());
+  checkExact(stretched, *after);
+  CHECK(model.trianglePasses() == 2);
+  CHECK(model.texelPasses() == 1);
+  // The texture geometry is refused once the model follows triangles.
+  CHECK_FALSE(model.setGeometry(evaluateSurface(*bake, stretched, rest.uv)).ok());
+
+  // A density map: one pass over the pieces when it is set, none per moved mesh after that.
+  REQUIRE(model.setTexelDensity(std::vector<float>(model.texelCount(), 400.0f)).ok());
+  const auto mapped = model.properties();
+  REQUIRE(mapped.ok());
+  // The map of one value is the uniform solid, up to the pieces' float moments (1e-6).
+  CHECK(mapped->mass == Approx(after->mass).epsilon(1e-6));
+  CHECK(model.texelPasses() == 2);
+  CHECK(model.trianglePasses() == 3);
+  REQUIRE(model.setGeometry(moved(0.2)).ok());
+  REQUIRE(model.properties().ok());
+  CHECK(model.texelPasses() == 2);
+  CHECK(model.trianglePasses() == 4);
+
+  // A bad map is reported by properties() (as on the texel path), a good one recovers.
+  std::vector<float> negative(model.texelCount(), 400.0f);
+  negative[7] = -1.0f;
+  REQUIRE(model.setTexelDensity(negative).ok());
+  const auto refused = model.properties();
+  REQUIRE_FALSE(refused.ok());
+  CHECK(refused.error().message.find("density map") != std::string::npos);
+  REQUIRE(model.setTexelDensity({}).ok());
+  REQUIRE(model.properties().ok());
+  // A broken mesh is an error, reported again by properties() until a good one comes.
+  Mesh broken = rest;
+  broken.positions[0].x() = std::nan("");
+  CHECK_FALSE(model.setGeometry(broken).ok());
+  CHECK_FALSE(model.properties().ok());
+  REQUIRE(model.setGeometry(rest).ok());
+  const auto recovered = model.properties();
+  REQUIRE(recovered.ok());
+  checkExact(rest, *recovered);
+
+  // Without followTriangles the mesh overload is refused; a bake that does not fit is an error.
+  MassModel plain(evaluateSurface(*bake, rest, rest.uv), reference);
+  CHECK_FALSE(plain.setGeometry(rest).ok());
+  UvLayout shorter = rest.uv;
+  shorter.uvTriangles.pop_back();
+  CHECK_FALSE(plain.followTriangles(*bake, shorter, rest).ok());
+  CHECK_FALSE(plain.followsTriangles());
 }

@@ -4,14 +4,19 @@
 /// solid density, shell areal density, a per-texel density map (replaceable at run time) and
 /// point masses (cargo, passengers) that may follow linear paths. Mass, centre of mass and the
 /// full inertia tensor come from one TextureMassIntegrator pass plus the point masses, and are
-/// recomputed only when something changed (revision counter).
+/// recomputed only when something changed (revision counter). A deforming body that has told the
+/// model its bake and layout (followTriangles) gets the solid, shell and map from a
+/// TriangleMassIntegrator instead: O(triangles) per moved mesh, exact for uniform densities.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/MassProperties.hpp"
+#include "hydrotex/Mesh.hpp"
 #include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/TriangleMassIntegrator.hpp"
 
 namespace hydrotex {
 
@@ -66,8 +71,24 @@ class MassModel {
   /// new revision) when none moved.
   void advanceTo(double time);
   /// The surface moved (a deforming body): prepares the texel pass again for `textures`, which
-  /// must have as many texels as before when a density map is set.
+  /// must have as many texels as before when a density map is set. Error once the model follows
+  /// triangles (it then takes the moved Mesh, below).
   Status setGeometry(const SurfaceTextures& textures);
+  /// For a deforming body: from now on the solid, shell and density map are summed per triangle
+  /// (TriangleMassIntegrator) over `mesh` (the mesh `bake` was made of, vertices possibly moved)
+  /// with `layout` (the UV layout of the bake), cones from the model's reference point. Each moved
+  /// mesh (setGeometry(Mesh)) then costs O(triangles) instead of a pass over the texels, and a
+  /// uniform solid or shell is exact (polyhedral). The texel pass's arrays are released. Error,
+  /// changing nothing, when the bake and layout do not fit together or a density map set has
+  /// another texel count; or from setGeometry(mesh).
+  Status followTriangles(const SurfaceBake& bake, const UvLayout& layout, const Mesh& mesh);
+  /// The mesh moved (a deforming body that follows triangles): same topology as the bake's mesh.
+  /// O(triangles), allocation-free. Error when the model does not follow triangles, or from
+  /// TriangleMassIntegrator::update (triangle count, an index out of range, a non-finite vertex);
+  /// properties() is then an error until a valid mesh is given.
+  Status setGeometry(const Mesh& mesh);
+  /// True once followTriangles succeeded.
+  bool followsTriangles() const { return triangles_.has_value(); }
 
   /// Mass properties (mesh frame) of everything together. Runs the texel pass only when the
   /// solid, shell, map or geometry changed since the last call, and combines the point masses
@@ -77,8 +98,12 @@ class MassModel {
 
   /// Increases by one with every change that alters the mass properties.
   std::uint64_t revision() const { return revision_; }
-  /// Texel passes run so far (the expensive part).
+  /// Texel passes run so far (the expensive part): the texel path's evaluation, or, following
+  /// triangles, a new density map's pass over the texel pieces.
   std::uint64_t texelPasses() const { return texelPasses_; }
+  /// Evaluations of the solid, shell and map from the per-triangle sums (following triangles;
+  /// O(1) after setGeometry(Mesh)'s O(triangles) pass).
+  std::uint64_t trianglePasses() const { return trianglePasses_; }
   /// Times properties() combined the parts (any change), cheap compared to a texel pass.
   std::uint64_t combinations() const { return combinations_; }
   /// Point masses, in the order they were added.
@@ -88,12 +113,17 @@ class MassModel {
   /// Shell areal density (kg/m^2).
   double shellDensity() const { return distributed_.shellDensity; }
   /// Enclosed volume (m^3) of the current geometry.
-  double volume() const { return integrator_.volume(); }
+  double volume() const { return triangles_ ? triangles_->volume() : integrator_.volume(); }
   /// Number of covered texels (the size a density map must have).
-  std::size_t texelCount() const { return integrator_.size(); }
+  std::size_t texelCount() const { return triangles_ ? triangles_->texelCount() : integrator_.size(); }
 
  private:
+  /// The solid, shell and map part from the triangle path (a new map first costs a piece pass).
+  Expected<MassProperties> evaluateTriangles();
+
   TextureMassIntegrator integrator_;
+  std::optional<TriangleMassIntegrator> triangles_;  // set by followTriangles
+  bool mapPending_ = false;  // the map changed since it was handed to triangles_
   Eigen::Vector3d referencePoint_;
   TextureMassModel distributed_;
   std::vector<PointMass> pointMasses_;
@@ -104,6 +134,7 @@ class MassModel {
   std::uint64_t evaluatedDistributed_ = 0; // revision at which distributedProperties_ was computed
   std::uint64_t evaluatedCombined_ = 0;    // revision at which combined_ was computed
   std::uint64_t texelPasses_ = 0;
+  std::uint64_t trianglePasses_ = 0;
   std::uint64_t combinations_ = 0;
 };
 
