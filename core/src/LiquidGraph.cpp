@@ -1,5 +1,6 @@
 #include "hydrotex/LiquidGraph.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -123,7 +124,6 @@ Expected<LiquidGraph> LiquidGraph::create(LiquidGraphDescription description) {
   graph.matrix_.resize(Eigen::Index(n), Eigen::Index(n));
   graph.rhs_.resize(Eigen::Index(n));
   graph.head_.resize(Eigen::Index(n));
-  graph.solver_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::Index(n));
   graph.updateLiquidCentroids(Pose{});
   return graph;
 }
@@ -419,9 +419,12 @@ Expected<FloodingStepResult> LiquidGraph::step(const LiquidSurface& surface, con
       matrix_(a, b) -= g;
       matrix_(b, a) -= g;
     }
-    solver_.compute(matrix_);
-    if (solver_.info() != Eigen::Success) return Error{"flooding: the level system is not positive definite"};
-    head_ = solver_.solve(rhs_);
+    // Factorised in place over matrix_ (rebuilt above every pass): no allocation per step, and no
+    // solver object kept in the graph, whose copy would read Eigen's never-set ComputationInfo
+    // (UBSan flagged that load when a graph built by create() was moved).
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> solver(matrix_);
+    if (solver.info() != Eigen::Success) return Error{"flooding: the level system is not positive definite"};
+    head_ = solver.solve(rhs_);
     if (!head_.allFinite()) return Error{"flooding: the level solve gave a non-finite head"};
     bool changed = false;
     for (std::size_t i = 0; i < n; ++i) {

@@ -9,19 +9,13 @@
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
+#include "TestSurfaces.hpp"
 
 using namespace hydrotex;
+using hydrotex::test::texturesOf;
 namespace prim = hydrotex::primitives;
 
 namespace {
-
-SurfaceTextures texturesOf(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  return evaluateSurface(*bake, mesh, mesh.uv);
-}
 
 Eigen::Matrix3d steiner(double mass, const Eigen::Vector3d& r) {
   return mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());

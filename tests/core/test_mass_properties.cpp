@@ -11,8 +11,10 @@
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
+#include "TestSurfaces.hpp"
 
 using namespace hydrotex;
+using hydrotex::test::texturesOf;
 namespace prim = hydrotex::primitives;
 
 namespace {
@@ -20,14 +22,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 double relativeMatrixError(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) { return (a - b).norm() / b.norm(); }
-
-SurfaceTextures texturesOf(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  return evaluateSurface(*bake, mesh, mesh.uv);
-}
 
 // Mass properties of two bodies together (parallel-axis theorem to the common centre).
 MassProperties combine(const MassProperties& a, const MassProperties& b) {

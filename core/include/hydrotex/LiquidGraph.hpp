@@ -11,7 +11,6 @@
 /// The read-only model (nodes' capacities and spaces, edges, permeable texels) is built once by
 /// LiquidGraphBuilder.hpp; the state that changes per step is the liquid in each node.
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -156,7 +155,6 @@ class LiquidGraph {
   std::vector<int> mode_;
   Eigen::MatrixXd matrix_;
   Eigen::VectorXd rhs_, head_;
-  Eigen::LLT<Eigen::MatrixXd> solver_;
 };
 
 }  // namespace hydrotex
