@@ -299,6 +299,11 @@ void Wetting::buildDiffusionGroups() {
     const std::uint32_t r = find(i);
     if (r != i && count[r] > 1) groupMembers_[slot[r]++] = i;
   }
+  // Members are listed in increasing index after the holder: the last one is the highest unless
+  // the holder is.
+  groupReady_.clear();
+  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k)
+    groupReady_.push_back(std::max(groupMembers_[groupStart_[k]], groupMembers_[groupStart_[k + 1] - 1]) + 1);
   inverseNodeArea_.resize(n);
   for (std::size_t i = 0; i < n; ++i) inverseNodeArea_[i] = nodeArea_[i] > 0.0 ? static_cast<float>(1.0 / nodeArea_[i]) : 0.0f;
   // Pairs between groups, on their holding texels; internal pairs carry nothing (equal contents).
@@ -385,9 +390,10 @@ Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingE
   WettingStepReport report;
   const bool flat = dynamic_cast<const FlatSurface*>(environment.liquid) || !environment.liquid;
   const int substeps = explicitSubsteps(dt);
-  if (substeps >= 1 && groupStart_.empty()) {
+  if (substeps >= 1) {
     // The common case in one pass over memory: the exchange runs ahead of the first diffusion
-    // sub-step's sweep by the sweep's reach, so every texel is exchanged before a flux reads it.
+    // sub-step's sweep by the sweep's reach, so every texel is exchanged before a flux reads it,
+    // and each merged group is pooled once its members are exchanged, before its holder is read.
     if (flat)
       fusedStep<true>(texture, environment, dt, substeps, report);
     else
@@ -418,11 +424,17 @@ void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& enviro
   std::size_t exchanged = 0;
   // The sweep of texels below `end` reads texels below end + reach (the ring's size bounds it).
   const std::size_t reach = ring_.size();
+  const std::size_t groups = groupReady_.size();
+  std::size_t pooled = 0;  // groups below this one are pooled: every group whose holder is below `exchanged`
   auto ahead = [&](std::size_t end) {
-    const std::size_t upTo = std::min(n, end + reach);
+    std::size_t upTo = std::min(n, end + reach);
     if (upTo <= exchanged) return;
+    // A holder about to be read needs its whole group exchanged first (members may lie further on).
+    std::size_t ready = pooled;
+    while (ready < groups && groupMembers_[groupStart_[ready]] < upTo) upTo = std::max<std::size_t>(upTo, groupReady_[ready++]);
     exchangeRange<Flat>(texture, k, exchanged, upTo, totals);
     exchanged = upTo;
+    for (; pooled < ready; ++pooled) poolGroup(texture, pooled);
   };
   const auto step = static_cast<float>(dt / substeps);
   if (texture.pigment.empty())
@@ -430,6 +442,7 @@ void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& enviro
   else
     sweep<true>(texture, step, ahead);
   for (int s = 1; s < substeps; ++s) diffuseExplicit(texture, dt / substeps);
+  spreadGroups(texture);
   report.absorbed = totals.absorbed;
   report.evaporated = totals.evaporated;
   report.submergedTexels = totals.submerged;
@@ -646,17 +659,19 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {
-  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k) {
-    double volume = 0.0, pigment = 0.0;
-    for (std::uint32_t m = groupStart_[k]; m < groupStart_[k + 1]; ++m) {
-      const std::uint32_t i = groupMembers_[m];
-      volume += static_cast<double>(texture.liquid[i]) * adjacency_.area[i];
-      if (!texture.pigment.empty()) pigment += static_cast<double>(texture.pigment[i]) * adjacency_.area[i];
-    }
-    const std::uint32_t holder = groupMembers_[groupStart_[k]];
-    texture.liquid[holder] = static_cast<float>(volume / nodeArea_[holder]);
-    if (!texture.pigment.empty()) texture.pigment[holder] = static_cast<float>(pigment / nodeArea_[holder]);
+  for (std::size_t k = 0; k < groupReady_.size(); ++k) poolGroup(texture, k);
+}
+
+void Wetting::poolGroup(LiquidTexture& texture, std::size_t k) const {
+  double volume = 0.0, pigment = 0.0;
+  for (std::uint32_t m = groupStart_[k]; m < groupStart_[k + 1]; ++m) {
+    const std::uint32_t i = groupMembers_[m];
+    volume += static_cast<double>(texture.liquid[i]) * adjacency_.area[i];
+    if (!texture.pigment.empty()) pigment += static_cast<double>(texture.pigment[i]) * adjacency_.area[i];
   }
+  const std::uint32_t holder = groupMembers_[groupStart_[k]];
+  texture.liquid[holder] = static_cast<float>(volume / nodeArea_[holder]);
+  if (!texture.pigment.empty()) texture.pigment[holder] = static_cast<float>(pigment / nodeArea_[holder]);
 }
 
 void Wetting::spreadGroups(LiquidTexture& texture) const {
