@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/MassProperties.hpp"
@@ -23,13 +24,7 @@ namespace prim = hydrotex::primitives;
 
 namespace {
 
-SurfaceBake bakeAt(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  return std::move(bake).value();
-}
+SurfaceBake bakeAt(const Mesh& mesh, int resolution) { return test::bakeOf(mesh, resolution); }
 
 // A smooth non-uniform deformation (shear, stretch, a bulge) that keeps the surface closed.
 Mesh deformed(const Mesh& rest, double amount) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
@@ -20,13 +21,7 @@ namespace prim = hydrotex::primitives;
 
 namespace {
 
-SurfaceBake bakeAt(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  return std::move(bake).value();
-}
+SurfaceBake bakeAt(const Mesh& mesh, int resolution) { return test::bakeOf(mesh, resolution); }
 
 TriangleMassIntegrator integratorFor(const SurfaceBake& bake, const Mesh& mesh, const Eigen::Vector3d& reference) {
   auto created = TriangleMassIntegrator::create(bake, mesh.uv, reference);

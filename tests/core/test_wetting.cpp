@@ -8,6 +8,7 @@
 #include <numeric>
 #include <random>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/Wetting.hpp"
@@ -17,16 +18,7 @@ using namespace hydrotex;
 namespace {
 
 // Flat square plate of side `side` in the plane y = `height`, UVs filling [0,1]^2, facing +y.
-Mesh plate(double side, double height = 0.0) {
-  Mesh mesh;
-  mesh.sourceName = "plate";
-  const double h = 0.5 * side;
-  mesh.positions = {{-h, height, -h}, {h, height, -h}, {h, height, h}, {-h, height, h}};
-  mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
-  mesh.uv.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  mesh.uv.uvTriangles = mesh.triangles;
-  return mesh;
-}
+Mesh plate(double side, double height = 0.0) { return test::squarePlate(side, height); }
 
 struct Body {
   SurfaceTextures textures;

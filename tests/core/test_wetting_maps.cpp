@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "TestPaths.hpp"
+#include "TestSurfaces.hpp"
 #include "hydrotex/ImageMap.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/Wetting.hpp"
@@ -25,16 +26,7 @@ constexpr int kResolution = 16;
 
 // Square plate of side 0.2 m in the plane y = `height`, facing +y, UVs filling [0,1]^2 with u
 // along x (u = 0 at x = -0.1): image column c covers x in [-0.1 + 0.2 c / 16, -0.1 + 0.2 (c + 1) / 16].
-Mesh plate(double height) {
-  Mesh mesh;
-  mesh.sourceName = "plate";
-  const double h = 0.1;
-  mesh.positions = {{-h, height, -h}, {h, height, -h}, {h, height, h}, {-h, height, h}};
-  mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
-  mesh.uv.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  mesh.uv.uvTriangles = mesh.triangles;
-  return mesh;
-}
+Mesh plate(double height) { return test::squarePlate(0.2, height); }
 
 struct Body {
   SurfaceBake bake;

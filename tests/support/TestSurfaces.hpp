@@ -6,6 +6,12 @@
 #include "hydrotex/SurfaceBake.hpp"
 
 namespace hydrotex::test {
+/// Square plate of side `side` (m) in the plane y = `height` (m), facing +y, its UVs filling
+/// [0,1]^2 with u along x (u = 0 at x = -side / 2) and v along z.
+Mesh squarePlate(double side, double height = 0.0);
+/// The exact bake of `mesh` from its own UVs at resolution x resolution texels (the test fails
+/// when the bake does).
+SurfaceBake bakeOf(const Mesh& mesh, int resolution);
 /// PT/VAT of `mesh` baked from its own UVs at resolution x resolution texels (the test fails
 /// when the bake does).
 SurfaceTextures texturesOf(const Mesh& mesh, int resolution);
