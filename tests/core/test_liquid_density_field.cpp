@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/LiquidDensityField.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
@@ -12,23 +13,10 @@ using namespace hydrotex;
 
 namespace {
 
-Mesh plate(double side) {
-  Mesh mesh;
-  mesh.sourceName = "plate";
-  const double h = 0.5 * side;
-  mesh.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-  mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
-  mesh.uv.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  mesh.uv.uvTriangles = mesh.triangles;
-  return mesh;
-}
+Mesh plate(double side) { return test::squarePlate(side); }
 
 TexelAdjacency graphOf(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  auto graph = buildTexelAdjacency(*bake, mesh, mesh.uv);
+  auto graph = buildTexelAdjacency(test::bakeOf(mesh, resolution), mesh, mesh.uv);
   REQUIRE(graph.ok());
   return std::move(graph).value();
 }

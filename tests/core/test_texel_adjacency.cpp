@@ -8,6 +8,7 @@
 #include <map>
 #include <queue>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/TexelAdjacency.hpp"
@@ -18,23 +19,10 @@ namespace {
 
 // A flat square plate of side `side` in the plane y = 0 whose UVs fill [0,1]^2 (u along x, v
 // along z); two triangles, so the diagonal crosses texels.
-Mesh plate(double side) {
-  Mesh mesh;
-  mesh.sourceName = "plate";
-  const double h = 0.5 * side;
-  mesh.positions = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-  mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
-  mesh.uv.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  mesh.uv.uvTriangles = mesh.triangles;
-  return mesh;
-}
+Mesh plate(double side) { return test::squarePlate(side); }
 
 TexelAdjacency build(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  auto graph = buildTexelAdjacency(*bake, mesh, mesh.uv);
+  auto graph = buildTexelAdjacency(test::bakeOf(mesh, resolution), mesh, mesh.uv);
   REQUIRE(graph.ok());
   return std::move(graph).value();
 }
