@@ -74,6 +74,17 @@ class Tokens {
   std::size_t at_ = 0;
 };
 
+/// Whether a body token is one number as the PLY format writes it (an optional sign, digits, a
+/// fraction or exponent). assimp's reader stops at the first character that is not part of a
+/// number and goes on from there, so a token such as "3]0" splits differently for it than here.
+bool isNumber(std::string_view token) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  double value = 0.0;
+  const auto [stop, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return !token.empty() && stop == token.data() + token.size() &&
+         (error == std::errc() || error == std::errc::result_out_of_range);
+}
+
 }  // namespace
 
 bool isPly(std::string_view head) {
@@ -139,13 +150,21 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   }
   if (!ascii || bytes.size() < fileSize) return std::nullopt;
 
-  // ASCII lists: each count must fit in what is left of the file (at least 2 bytes a value).
+  // ASCII lists: each count must fit in what is left of the file (at least 2 bytes a value). The
+  // values are walked as the reader walks them, which holds only while every token is a number:
+  // anything else is refused, as a reader that read past it would take a later value for a count
+  // (11 GB for one list; found by fuzz_mesh).
   Tokens tokens(bytes.substr(end));
+  auto notANumber = [&](const PlyElement& element, std::uint64_t i, std::string_view token) {
+    return "PLY element '" + element.name + "' entry " + std::to_string(i) + " holds '" +
+           std::string(token.substr(0, 32)) + "' where a number belongs";
+  };
   for (const PlyElement& element : elements) {
     for (std::uint64_t i = 0; i < element.count; ++i) {
       for (const PlyProperty& property : element.properties) {
         const std::optional<std::string_view> token = tokens.next();
         if (!token) return std::nullopt;  // truncated: assimp's reader says so
+        if (!isNumber(*token)) return notANumber(element, i, *token);
         if (!property.list) continue;
         std::uint64_t count = 0;
         const auto [stop, error] = std::from_chars(token->data(), token->data() + token->size(), count);
@@ -154,8 +173,11 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
         if (tooLarge || count > room / 2)
           return "PLY element '" + element.name + "' entry " + std::to_string(i) + " declares a list of " +
                  std::string(*token) + " values, more than the file holds";
-        for (std::uint64_t k = 0; k < count; ++k)
-          if (!tokens.next()) return std::nullopt;
+        for (std::uint64_t k = 0; k < count; ++k) {
+          const std::optional<std::string_view> value = tokens.next();
+          if (!value) return std::nullopt;
+          if (!isNumber(*value)) return notANumber(element, i, *value);
+        }
       }
     }
   }

@@ -101,6 +101,13 @@ std::vector<BadMesh> badMeshes() {
        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
        "33333333333333333333 0 1 2\n",
        "more than the file", false},
+      // A token that is not a number makes assimp's reader split the body otherwise than a
+      // reader of whole tokens: it took the last line's value for a list count (11 GB; fuzz_mesh).
+      {"robust_ply_not_a_number.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+       "3]0 1 2\n33333333333333333333 0 1 2\n",
+       "'3]0' where a number belongs", false},
       {"robust_ply_huge_count.ply",
        "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0000",
        "more than the file", false},
