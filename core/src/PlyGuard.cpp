@@ -57,20 +57,56 @@ std::size_t headerEnd(std::string_view bytes) {
   return std::string_view::npos;
 }
 
-/// Reads whitespace-separated tokens of the body in order.
-class Tokens {
+/// assimp's line ends (ParsingUtils' IsLineEnd) and value separators (IsSpace).
+bool isLineEnd(char c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; }
+bool isSeparator(char c) { return c == ' ' || c == '\t'; }
+
+/// An ASCII body's lines as assimp 5.2's IOStreamBuffer::getNextLine hands them to the PLY
+/// reader, one element entry each: a line stops at any line end, and a line end where a line
+/// would start is skipped up to and including the next '\n' ("\r\n" is one line end; so is
+/// "\0 anything \n", whose bytes the reader never sees).
+class Lines {
  public:
-  explicit Tokens(std::string_view text) : text_(text) {}
+  explicit Lines(std::string_view text) : text_(text) {}
   std::optional<std::string_view> next() {
-    while (at_ < text_.size() && isBlank(text_[at_])) ++at_;
     if (at_ >= text_.size()) return std::nullopt;
+    if (isLineEnd(text_[at_])) {
+      while (at_ < text_.size() && text_[at_] != '\n') ++at_;
+      if (++at_ >= text_.size()) return std::nullopt;
+    }
     const std::size_t start = at_;
-    while (at_ < text_.size() && !isBlank(text_[at_])) ++at_;
-    return text_.substr(start, at_ - start);
+    while (at_ < text_.size() && !isLineEnd(text_[at_])) ++at_;
+    const std::string_view line = text_.substr(start, at_ - start);
+    ++at_;
+    return line;
   }
 
  private:
   std::string_view text_;
+  std::size_t at_ = 0;
+};
+
+/// The values of one line, in order, split where the reader splits them.
+class Values {
+ public:
+  explicit Values(std::string_view line) : line_(line) {}
+  std::optional<std::string_view> next() {
+    while (at_ < line_.size() && isSeparator(line_[at_])) ++at_;
+    if (at_ >= line_.size()) return std::nullopt;
+    const std::size_t start = at_;
+    while (at_ < line_.size() && !isSeparator(line_[at_])) ++at_;
+    return line_.substr(start, at_ - start);
+  }
+  /// How many values the whole line holds.
+  std::size_t total() const {
+    Values all(line_);
+    std::size_t count = 0;
+    while (all.next()) ++count;
+    return count;
+  }
+
+ private:
+  std::string_view line_;
   std::size_t at_ = 0;
 };
 
@@ -150,35 +186,49 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   }
   if (!ascii || bytes.size() < fileSize) return std::nullopt;
 
-  // ASCII lists: each count must fit in what is left of the file (at least 2 bytes a value). The
-  // values are walked as the reader walks them, which holds only while every token is a number:
-  // anything else is refused, as a reader that read past it would take a later value for a count
-  // (11 GB for one list; found by fuzz_mesh).
-  Tokens tokens(bytes.substr(end));
-  auto notANumber = [&](const PlyElement& element, std::uint64_t i, std::string_view token) {
-    return "PLY element '" + element.name + "' entry " + std::to_string(i) + " holds '" +
-           std::string(token.substr(0, 32)) + "' where a number belongs";
-  };
+  // ASCII: assimp's reader takes one entry per line and reads a list's count before its values,
+  // allocating for the count first. Where a line holds fewer values than its properties take, it
+  // stops that entry early, and where a value is no number its parser stops inside it: either way
+  // a later value is taken for a count (11 GB for one list; both found by fuzz_mesh). So every
+  // entry must be one line holding exactly the numbers its properties take, each list count a
+  // whole number within what the file holds.
+  Lines lines(bytes.substr(end));
   for (const PlyElement& element : elements) {
     for (std::uint64_t i = 0; i < element.count; ++i) {
+      const std::string entry = "PLY element '" + element.name + "' entry " + std::to_string(i);
+      const std::optional<std::string_view> line = lines.next();
+      if (!line)
+        return "PLY element '" + element.name + "' has " + std::to_string(i) + " of its " +
+               std::to_string(element.count) + " entries: the file ends first";
+      Values values(*line);
+      auto tooFew = [&] {
+        return entry + " has " + std::to_string(values.total()) + " values on its line, fewer than its properties take";
+      };
+      auto notANumber = [&](std::string_view token, const char* what) {
+        return entry + " holds '" + std::string(token.substr(0, 32)) + "' where " + what + " belongs";
+      };
       for (const PlyProperty& property : element.properties) {
-        const std::optional<std::string_view> token = tokens.next();
-        if (!token) return std::nullopt;  // truncated: assimp's reader says so
-        if (!isNumber(*token)) return notANumber(element, i, *token);
-        if (!property.list) continue;
+        const std::optional<std::string_view> token = values.next();
+        if (!token) return tooFew();
+        if (!property.list) {
+          if (!isNumber(*token)) return notANumber(*token, "a number");
+          continue;
+        }
         std::uint64_t count = 0;
         const auto [stop, error] = std::from_chars(token->data(), token->data() + token->size(), count);
-        const bool tooLarge = error == std::errc::result_out_of_range || (!token->empty() && token->front() == '-');
-        if (!tooLarge && (error != std::errc() || stop != token->data() + token->size())) return std::nullopt;
-        if (tooLarge || count > room / 2)
-          return "PLY element '" + element.name + "' entry " + std::to_string(i) + " declares a list of " +
-                 std::string(*token) + " values, more than the file holds";
+        const bool whole = stop == token->data() + token->size();
+        if (!whole || (error != std::errc() && error != std::errc::result_out_of_range))
+          return notANumber(*token, "a list count");
+        if (error == std::errc::result_out_of_range || count > room / 2)
+          return entry + " declares a list of " + std::string(token->substr(0, 32)) + " values, more than the file holds";
         for (std::uint64_t k = 0; k < count; ++k) {
-          const std::optional<std::string_view> value = tokens.next();
-          if (!value) return std::nullopt;
-          if (!isNumber(*value)) return notANumber(element, i, *value);
+          const std::optional<std::string_view> value = values.next();
+          if (!value) return tooFew();
+          if (!isNumber(*value)) return notANumber(*value, "a number");
         }
       }
+      if (values.next())
+        return entry + " has " + std::to_string(values.total()) + " values on its line, more than its properties take";
     }
   }
   return std::nullopt;

@@ -1,8 +1,9 @@
 /// @file PlyGuard.hpp
 /// What assimp 5.2's PLY reader cannot be given (private to core; each found by fuzz_mesh):
-/// a header without an "end_header" line (it loops forever), and counts that declare more data
-/// than the file holds (it allocates for the declared count first: a face list of 3e9 corners
-/// asked for 11 GB).
+/// a header without an "end_header" line (it loops forever), counts that declare more data than
+/// the file holds (it allocates for the declared count first: a face list of 3e9 corners asked
+/// for 11 GB), and ASCII entries that are not one line of exactly the numbers their properties
+/// take (it then reads a later value as a list count).
 #pragma once
 
 #include <cstddef>

@@ -219,13 +219,15 @@ TEST_CASE("Hand-written PLY and ASCII STL load, node transforms are applied", "[
   // Unit corner tetrahedron: volume 1/6, exact in double up to rounding.
   CHECK(*report.volume == Approx(1.0 / 6.0).epsilon(1e-14));
 
-  // The tightest ASCII body (one-character values, no newline after the last one) is not taken
-  // for counts beyond the data (PlyGuard): it reaches assimp, whose verdict here is "no triangles".
+  // The tightest ASCII body (one-character values, one entry a line, no newline after the last)
+  // is not taken for counts beyond the data (PlyGuard): it reaches assimp, whose verdict here is
+  // "Mesh contains no faces".
   const std::string tight = outputPath("tight.ply");
-  writeText(tight, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1 2 3");
+  writeText(tight, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n2\n3");
   const auto points = hydrotex::loadMesh(tight);
   REQUIRE_FALSE(points.ok());
   CHECK(points.error().message.find("more than the file") == std::string::npos);
+  CHECK(points.error().message.find("no faces") != std::string::npos);
 
   const std::string stl = outputPath("tetra_ascii.stl");
   writeText(stl,
