@@ -264,12 +264,12 @@ Expected<Mesh> loadMesh(const std::string& path) {
                                std::to_string(kMaxMeshFileBytes) + "-byte limit");
   std::ifstream file(path, std::ios::binary);
   if (!file.good()) return fileError(path, "file cannot be opened for reading");
-  // What assimp's PLY reader cannot be given is refused first (PlyGuard.hpp): from the head, or
-  // for an ASCII PLY, whose list counts only the whole file shows, from all of it.
+  // What assimp's PLY reader cannot be given is refused first (PlyGuard.hpp), from the whole file
+  // (its list counts are in the body); other formats need only the head.
   std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(size, detail::kPlyHeadBytes)), '\0');
   file.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
-  if (detail::isAsciiPly(head) && head.size() < size) {
+  if (detail::isPly(head) && head.size() < size) {
     const std::size_t have = head.size();
     head.resize(static_cast<std::size_t>(size));
     file.read(head.data() + have, static_cast<std::streamsize>(head.size() - have));

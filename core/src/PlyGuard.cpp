@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -33,7 +34,8 @@ std::size_t typeBytes(const std::string& type) {
 
 struct PlyProperty {
   bool list = false;
-  std::size_t bytes = 1;  ///< binary size of a scalar, or of a list's count
+  std::size_t bytes = 1;       ///< binary size of a scalar, or of a list's count
+  std::size_t valueBytes = 0;  ///< binary size of a list's value
 };
 struct PlyElement {
   std::string name;
@@ -121,18 +123,39 @@ bool isNumber(std::string_view token) {
          (error == std::errc() || error == std::errc::result_out_of_range);
 }
 
+/// Binary bodies: every list's count, read as assimp reads it (as an unsigned number of the count
+/// type's size), must fit in what is left of the body, for the reader allocates for it first.
+std::optional<std::string> binaryListTrap(const std::vector<PlyElement>& elements, std::string_view body, bool bigEndian) {
+  std::size_t at = 0;
+  for (const PlyElement& element : elements) {
+    for (std::uint64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& property : element.properties) {
+        if (body.size() - at < property.bytes) return std::nullopt;  // truncated: assimp's reader says so
+        if (!property.list) {
+          at += property.bytes;
+          continue;
+        }
+        std::uint64_t count = 0;
+        for (std::size_t b = 0; b < property.bytes; ++b) {
+          const auto byte = static_cast<unsigned char>(body[at + (bigEndian ? b : property.bytes - 1 - b)]);
+          count = (count << 8) | byte;
+        }
+        at += property.bytes;
+        if (count > (body.size() - at) / property.valueBytes)
+          return "PLY element '" + element.name + "' entry " + std::to_string(i) + " declares a list of " +
+                 std::to_string(count) + " values, more than the file holds";
+        at += static_cast<std::size_t>(count) * property.valueBytes;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 bool isPly(std::string_view head) {
   const std::size_t start = head.find_first_not_of(" \t\r\n");
   return start != std::string_view::npos && head.size() - start >= 3 && lowered(head.substr(start, 3)) == "ply";
-}
-
-bool isAsciiPly(std::string_view head) {
-  if (!isPly(head)) return false;
-  const std::size_t end = headerEnd(head);
-  const std::string header = lowered(head.substr(0, end == std::string_view::npos ? head.size() : end));
-  return header.find("format ascii") != std::string::npos;
 }
 
 std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize) {
@@ -141,34 +164,70 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   if (end == std::string_view::npos)
     return std::string("PLY header has no end_header line") + (bytes.size() >= kPlyHeadBytes ? " in its first 1 MiB" : "");
 
+  // The header must be what the format allows, line by line: assimp's reader is lenient with
+  // anything else and may see other elements than a strict reading does (a garbled "element"
+  // line let a list count of 3e33 through; fuzz_mesh), so nothing else is passed on to it.
   std::vector<PlyElement> elements;
-  bool ascii = false;
+  bool ascii = false, bigEndian = false, sawPly = false;
   std::istringstream header{std::string(bytes.substr(0, end))};
+  std::size_t lineNumber = 0;
   for (std::string line; std::getline(header, line);) {
+    ++lineNumber;
     std::istringstream words(lowered(line));
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "format") {
-      std::string format;
-      words >> format;
+    auto refuse = [&](const std::string& what) {
+      return "PLY header line " + std::to_string(lineNumber) + " ('" + line.substr(0, 48) + "') " + what;
+    };
+    auto word = [&] {
+      std::string w;
+      words >> w;
+      return w;
+    };
+    auto ended = [&] {
+      std::string rest;
+      return !(words >> rest);
+    };
+    const std::string keyword = word();
+    if (keyword.empty()) continue;
+    if (!sawPly) {
+      if (keyword != "ply" || !ended()) return refuse("is not 'ply'");
+      sawPly = true;
+    } else if (keyword == "comment" || keyword == "obj_info") {
+      continue;
+    } else if (keyword == "format") {
+      const std::string format = word(), version = word();
+      if ((format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") || version.empty() ||
+          !ended())
+        return refuse("is not 'format ascii|binary_little_endian|binary_big_endian <version>'");
       ascii = format == "ascii";
+      bigEndian = format == "binary_big_endian";
     } else if (keyword == "element") {
       PlyElement element;
-      words >> element.name >> element.count;
-      if (!words) return std::nullopt;  // malformed: assimp's reader says so
+      element.name = word();
+      const std::string count = word();
+      const auto [stop, error] = std::from_chars(count.data(), count.data() + count.size(), element.count);
+      if (element.name.empty() || count.empty() || stop != count.data() + count.size() || !ended())
+        return refuse("is not 'element <name> <count>'");
+      if (error != std::errc()) element.count = std::numeric_limits<std::uint64_t>::max();  // refused below
       elements.push_back(element);
-    } else if (keyword == "property" && !elements.empty()) {
-      std::string type, countType;
-      words >> type;
+    } else if (keyword == "property") {
+      if (elements.empty()) return refuse("comes before any element");
       PlyProperty property;
+      const std::string type = word();
       if (type == "list") {
-        words >> countType;
         property.list = true;
-        property.bytes = std::max<std::size_t>(typeBytes(countType), 1);
+        const std::string countType = word(), valueType = word();
+        property.bytes = typeBytes(countType);
+        property.valueBytes = typeBytes(valueType);
+        const bool integerCount = countType.find("float") == std::string::npos && countType != "double";
+        if (property.bytes == 0 || !integerCount || property.valueBytes == 0 || word().empty() || !ended())
+          return refuse("is not 'property list <integer type> <type> <name>'");
       } else {
-        property.bytes = std::max<std::size_t>(typeBytes(type), 1);
+        property.bytes = typeBytes(type);
+        if (property.bytes == 0 || word().empty() || !ended()) return refuse("is not 'property <type> <name>'");
       }
       elements.back().properties.push_back(property);
+    } else if (keyword != "end_header") {
+      return refuse("is none of the lines a PLY header holds");
     }
   }
 
@@ -184,7 +243,8 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
       return "PLY element '" + element.name + "' declares " + std::to_string(element.count) +
              " entries, more than the file's " + std::to_string(body) + " bytes of data hold";
   }
-  if (!ascii || bytes.size() < fileSize) return std::nullopt;
+  if (bytes.size() < fileSize) return std::nullopt;
+  if (!ascii) return binaryListTrap(elements, bytes.substr(end), bigEndian);
 
   // ASCII: assimp's reader takes one entry per line and reads a list's count before its values,
   // allocating for the count first. Where a line holds fewer values than its properties take, it

@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <numbers>
 #include <nlohmann/json.hpp>
@@ -81,6 +82,14 @@ std::vector<BadMesh> badMeshes() {
   const std::string stlPath = outputPath("robust_source_cube.stl");
   REQUIRE(saveMesh(primitives::box(Eigen::Vector3d::Ones()), stlPath).ok());
   const std::string stl = readFile(stlPath);
+  // A binary PLY triangle whose face list (uint count) declares 4e9 corners.
+  std::string binaryHugeList =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uint int vertex_indices\nend_header\n";
+  binaryHugeList += std::string(9 * sizeof(float), '\0');
+  const std::uint32_t hugeCount = 4000000000u;  // little-endian on every platform the tests run on
+  binaryHugeList.append(reinterpret_cast<const char*>(&hugeCount), sizeof hugeCount);
+  binaryHugeList += std::string(3 * sizeof(std::int32_t), '\0');
   return {
       {"robust_empty.obj", "", "empty", false},
       {"robust_garbage.ply", garbage, "not a readable mesh", false},
@@ -136,6 +145,14 @@ std::vector<BadMesh> badMeshes() {
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
        "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
        "has 1 of its 2 entries", false},
+      // A garbled header line: assimp's lenient reader saw other elements than a strict one
+      // (a list count of 3e33 then got through; fuzz_mesh in CI's run). Refused at the line.
+      {"robust_ply_garbled_header.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float xJproperty float y\nproperty float z\n"
+       "element faceelement vertex 3\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n",
+       "PLY header line 4 ('property float xJproperty float y') is not 'property <type> <name>'", false},
+      {"robust_ply_binary_huge_list.ply", binaryHugeList, "declares a list of 4000000000 values, more than the file holds",
+       false},
       {"robust_ply_huge_count.ply",
        "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0000",
        "more than the file", false},
