@@ -6,6 +6,7 @@
 #include "hydrotex/MeshIO.hpp"
 
 #include "MeshImportFileSystem.hpp"
+#include "OffGuard.hpp"
 #include "PlyGuard.hpp"
 
 #include <assimp/Exporter.hpp>
@@ -277,6 +278,10 @@ Expected<Mesh> loadMesh(const std::string& path) {
   }
   if (const std::optional<std::string> trap = detail::plyTrap(head, static_cast<std::size_t>(size)))
     return fileError(path, *trap);
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (const std::optional<std::string> trap = detail::offTrap(head, static_cast<std::size_t>(size), extension == ".off"))
+    return fileError(path, *trap);
 
   Assimp::Importer importer;
   importer.SetIOHandler(detail::MeshImportFileSystem::onDisk().release());  // the importer owns it
@@ -298,6 +303,11 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
   if (!hintIsExtension)
     return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
   if (const std::optional<std::string> trap = detail::plyTrap(std::string_view(static_cast<const char*>(bytes), size), size))
+    return fileError(name, *trap);
+  std::string hint = formatHint;
+  for (char& c : hint) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (const std::optional<std::string> trap =
+          detail::offTrap(std::string_view(static_cast<const char*>(bytes), size), size, hint == "off"))
     return fileError(name, *trap);
   // Not ReadFileFromMemory: its file system serves the mesh bytes as the OBJ reader's material
   // library too (see MeshImportFileSystem.hpp). Without a hint, assimp detects the format.

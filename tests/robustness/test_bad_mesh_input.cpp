@@ -153,6 +153,12 @@ std::vector<BadMesh> badMeshes() {
        "PLY header line 4 ('property float xJproperty float y') is not 'property <type> <name>'", false},
       {"robust_ply_binary_huge_list.ply", binaryHugeList, "declares a list of 4000000000 values, more than the file holds",
        false},
+      // assimp's OFF reader allocates for its counts first (a face count of 1e25 wrapped to 2.3e9
+      // asked for 37 GB; fuzz_mesh).
+      {"robust_off_huge_count.off", "OFF\n3 10000000000000000000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "OFF header declares 10000000000000000000000000 faces, more than the file's", false},
+      {"robust_off_huge_vertices.off", "OFF\n4000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "OFF header declares 4000000000 vertices", false},
       {"robust_ply_huge_count.ply",
        "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0000",
        "more than the file", false},

@@ -1,0 +1,62 @@
+/// @file OffGuard.cpp
+/// See OffGuard.hpp. Only the counts are checked; everything else is assimp's reader's job.
+
+#include "OffGuard.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+
+namespace hydrotex::detail {
+namespace {
+
+/// The next whitespace-separated token from `at`, skipping '#' comments to their line's end.
+std::string_view nextToken(std::string_view text, std::size_t& at) {
+  while (at < text.size()) {
+    if (std::isspace(static_cast<unsigned char>(text[at])) != 0) {
+      ++at;
+    } else if (text[at] == '#') {
+      while (at < text.size() && text[at] != '\n') ++at;
+    } else {
+      break;
+    }
+  }
+  const std::size_t start = at;
+  while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])) == 0) ++at;
+  return text.substr(start, at - start);
+}
+
+bool endsWithOff(std::string_view token) {
+  if (token.size() < 3) return false;
+  const std::string_view tail = token.substr(token.size() - 3);
+  return std::tolower(static_cast<unsigned char>(tail[0])) == 'o' &&
+         std::tolower(static_cast<unsigned char>(tail[1])) == 'f' &&
+         std::tolower(static_cast<unsigned char>(tail[2])) == 'f';
+}
+
+}  // namespace
+
+std::optional<std::string> offTrap(std::string_view head, std::size_t fileSize, bool offHint) {
+  std::size_t at = 0;
+  std::string_view token = nextToken(head, at);
+  // The keyword (OFF, COFF, NOFF, STOFF, 4OFF, ...) may be left out when the name says OFF.
+  if (endsWithOff(token)) {
+    token = nextToken(head, at);
+  } else if (!offHint) {
+    return std::nullopt;
+  }
+  // Vertex count, then face count: each entry takes at least 2 bytes (a digit and a blank), so a
+  // count beyond half the file is no data, only an allocation.
+  for (const char* what : {"vertices", "faces"}) {
+    std::uint64_t count = 0;
+    const auto [stop, error] = std::from_chars(token.data(), token.data() + token.size(), count);
+    if (token.empty() || stop != token.data() + token.size()) return std::nullopt;  // assimp's reader says what
+    if (error != std::errc() || count > fileSize / 2)
+      return "OFF header declares " + std::string(token.substr(0, 32)) + " " + what + ", more than the file's " +
+             std::to_string(fileSize) + " bytes hold";
+    token = nextToken(head, at);
+  }
+  return std::nullopt;
+}
+
+}  // namespace hydrotex::detail
