@@ -157,6 +157,8 @@ std::vector<BadMesh> badMeshes() {
       // asked for 37 GB; fuzz_mesh).
       {"robust_off_huge_count.off", "OFF\n3 10000000000000000000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
        "OFF header declares 10000000000000000000000000 faces, more than the file's", false},
+      {"robust_off_count_with_tail.off", "OFF\n3 1000000000$0 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       "OFF header declares 1000000000$0 faces", false},
       {"robust_off_huge_vertices.off", "OFF\n4000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
        "OFF header declares 4000000000 vertices", false},
       {"robust_ply_huge_count.ply",
