@@ -202,9 +202,22 @@ Expected<Mesh> convertScene(const aiScene& scene, const std::string& path) {
   return result;
 }
 
-/// assimp exporter id for a file extension (lower case, with the dot).
-std::string exportFormatFor(std::string extension) {
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+std::string lowercase(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+/// Why assimp must not be given these bytes (PlyGuard.hpp, OffGuard.hpp), or nothing. `bytes`:
+/// the whole file for a PLY, at least its head otherwise; `extension`: the file's, or the format
+/// hint, without the dot.
+std::optional<std::string> readerTrap(std::string_view bytes, std::size_t size, const std::string& extension) {
+  if (std::optional<std::string> trap = detail::plyTrap(bytes, size)) return trap;
+  return detail::offTrap(bytes, size, lowercase(extension) == "off");
+}
+
+/// assimp exporter id for a file extension (with the dot, any case).
+std::string exportFormatFor(const std::string& anyCase) {
+  const std::string extension = lowercase(anyCase);
   if (extension == ".obj") return "obj";
   if (extension == ".gltf") return "gltf2";
   if (extension == ".glb") return "glb2";
@@ -276,11 +289,9 @@ Expected<Mesh> loadMesh(const std::string& path) {
     file.read(head.data() + have, static_cast<std::streamsize>(head.size() - have));
     head.resize(have + static_cast<std::size_t>(std::max<std::streamsize>(file.gcount(), 0)));
   }
-  if (const std::optional<std::string> trap = detail::plyTrap(head, static_cast<std::size_t>(size)))
-    return fileError(path, *trap);
-  std::string extension = fs::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (const std::optional<std::string> trap = detail::offTrap(head, static_cast<std::size_t>(size), extension == ".off"))
+  const std::string extension = fs::path(path).extension().string();
+  if (const std::optional<std::string> trap =
+          readerTrap(head, static_cast<std::size_t>(size), extension.empty() ? extension : extension.substr(1)))
     return fileError(path, *trap);
 
   Assimp::Importer importer;
@@ -302,12 +313,7 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
                                });
   if (!hintIsExtension)
     return fileError(name, "format hint '" + formatHint + "' is not a file extension without the dot");
-  if (const std::optional<std::string> trap = detail::plyTrap(std::string_view(static_cast<const char*>(bytes), size), size))
-    return fileError(name, *trap);
-  std::string hint = formatHint;
-  for (char& c : hint) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (const std::optional<std::string> trap =
-          detail::offTrap(std::string_view(static_cast<const char*>(bytes), size), size, hint == "off"))
+  if (const std::optional<std::string> trap = readerTrap(std::string_view(static_cast<const char*>(bytes), size), size, formatHint))
     return fileError(name, *trap);
   // Not ReadFileFromMemory: its file system serves the mesh bytes as the OBJ reader's material
   // library too (see MeshImportFileSystem.hpp). Without a hint, assimp detects the format.

@@ -162,7 +162,7 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   if (!isPly(bytes)) return std::nullopt;
   const std::size_t end = headerEnd(bytes);
   if (end == std::string_view::npos)
-    return std::string("PLY header has no end_header line") + (bytes.size() >= kPlyHeadBytes ? " in its first 1 MiB" : "");
+    return std::string("PLY header has no end_header line");
 
   // The header must be what the format allows, line by line: assimp's reader is lenient with
   // anything else and may see other elements than a strict reading does (a garbled "element"
@@ -237,9 +237,12 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   const std::uint64_t body = fileSize > end ? fileSize - end : 0;
   const std::uint64_t room = ascii ? body + 1 : body;
   for (const PlyElement& element : elements) {
-    std::uint64_t instanceBytes = 0;
+    // An entry without properties still costs the reader an instance (and an ASCII file a line):
+    // one byte each at least, or a binary walk over 2^64 empty entries would never end.
+    std::uint64_t instanceBytes = 1;
+    if (!element.properties.empty()) instanceBytes = 0;
     for (const PlyProperty& property : element.properties) instanceBytes += ascii ? 2 : property.bytes;
-    if (instanceBytes > 0 && element.count > room / instanceBytes)
+    if (element.count > room / instanceBytes)
       return "PLY element '" + element.name + "' declares " + std::to_string(element.count) +
              " entries, more than the file's " + std::to_string(body) + " bytes of data hold";
   }

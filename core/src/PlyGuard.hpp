@@ -14,14 +14,14 @@
 
 namespace hydrotex::detail {
 
-/// Bytes of a file's head that hold its PLY header (headers with comments are a few KB).
+/// Bytes of a file's head read to tell its format (a PLY file is then read whole).
 inline constexpr std::size_t kPlyHeadBytes = std::size_t{1} << 20;
 
 /// True when `head` (a file's first bytes) starts a PLY file.
 bool isPly(std::string_view head);
 
-/// Why assimp must not read these PLY bytes, or nothing. `bytes`: the whole file (or its first
-/// kPlyHeadBytes, when only the header's checks are wanted); `fileSize`: the whole file's size.
+/// Why assimp must not read these PLY bytes, or nothing. `bytes`: the whole file (a shorter
+/// read gets the header's checks only); `fileSize`: the whole file's size (bytes).
 std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize);
 
 }  // namespace hydrotex::detail

@@ -299,11 +299,6 @@ void Wetting::buildDiffusionGroups() {
     const std::uint32_t r = find(i);
     if (r != i && count[r] > 1) groupMembers_[slot[r]++] = i;
   }
-  // Members are listed in increasing index after the holder: the last one is the highest unless
-  // the holder is.
-  groupReady_.clear();
-  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k)
-    groupReady_.push_back(std::max(groupMembers_[groupStart_[k]], groupMembers_[groupStart_[k + 1] - 1]) + 1);
   inverseNodeArea_.resize(n);
   for (std::size_t i = 0; i < n; ++i) inverseNodeArea_[i] = nodeArea_[i] > 0.0 ? static_cast<float>(1.0 / nodeArea_[i]) : 0.0f;
   // Pairs between groups, on their holding texels; internal pairs carry nothing (equal contents).
@@ -424,14 +419,19 @@ void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& enviro
   std::size_t exchanged = 0;
   // The sweep of texels below `end` reads texels below end + reach (the ring's size bounds it).
   const std::size_t reach = ring_.size();
-  const std::size_t groups = groupReady_.size();
+  const std::size_t groups = groupStart_.empty() ? 0 : groupStart_.size() - 1;
+  // One past a group's highest member: members follow the holder in increasing index, so the
+  // last one is the highest unless the holder is.
+  auto groupEnd = [&](std::size_t g) -> std::size_t {
+    return std::max(groupMembers_[groupStart_[g]], groupMembers_[groupStart_[g + 1] - 1]) + std::size_t{1};
+  };
   std::size_t pooled = 0;  // groups below this one are pooled: every group whose holder is below `exchanged`
   auto ahead = [&](std::size_t end) {
     std::size_t upTo = std::min(n, end + reach);
     if (upTo <= exchanged) return;
     // A holder about to be read needs its whole group exchanged first (members may lie further on).
     std::size_t ready = pooled;
-    while (ready < groups && groupMembers_[groupStart_[ready]] < upTo) upTo = std::max<std::size_t>(upTo, groupReady_[ready++]);
+    while (ready < groups && groupMembers_[groupStart_[ready]] < upTo) upTo = std::max(upTo, groupEnd(ready++));
     exchangeRange<Flat>(texture, k, exchanged, upTo, totals);
     exchanged = upTo;
     for (; pooled < ready; ++pooled) poolGroup(texture, pooled);
@@ -659,7 +659,7 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {
-  for (std::size_t k = 0; k < groupReady_.size(); ++k) poolGroup(texture, k);
+  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k) poolGroup(texture, k);
 }
 
 void Wetting::poolGroup(LiquidTexture& texture, std::size_t k) const {

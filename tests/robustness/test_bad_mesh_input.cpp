@@ -161,6 +161,11 @@ std::vector<BadMesh> badMeshes() {
        "OFF header declares 1000000000$0 faces", false},
       {"robust_off_huge_vertices.off", "OFF\n4000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
        "OFF header declares 4000000000 vertices", false},
+      // An element without properties costs assimp an instance per entry, and the guard's binary
+      // walk one turn: 2^64 - 1 of them are refused, not walked.
+      {"robust_ply_empty_element.ply",
+       "ply\nformat binary_little_endian 1.0\nelement nothing 18446744073709551615\nend_header\n",
+       "declares 18446744073709551615 entries, more than the file's", false},
       {"robust_ply_huge_count.ply",
        "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0000",
        "more than the file", false},

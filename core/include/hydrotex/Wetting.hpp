@@ -177,7 +177,6 @@ class Wetting {
   // first texel, diffused there with the group's area, and copied back to every member.
   std::vector<std::uint32_t> groupStart_;    // CSR ranges into groupMembers_ (groups of two or more)
   std::vector<std::uint32_t> groupMembers_;  // first member of each range holds the group
-  std::vector<std::uint32_t> groupReady_;    // per group: its highest member's index + 1 (groups sorted by holder)
   std::vector<double> nodeArea_;             // group area on the holding texel, own area when alone, 0 otherwise (m^2)
   std::vector<float> inverseNodeArea_;       // 1 / nodeArea_, 0 where nodeArea_ is 0 (1/m^2)
   std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
