@@ -10,12 +10,9 @@
 //    phi' = M phi solved by conjugate gradients (the matrix is symmetric positive definite), then
 //    the pair fluxes of phi' are applied to phi, so the volume is conserved whatever the solver's
 //    residual.
-//  - Stiff texels: the explicit bound is set by the smallest A_i / sum_j g_ij. Slivers at chart
-//    borders and the squeezed texels near a UV sphere's poles make it tiny, so they are merged
-//    with their most strongly coupled neighbour into one control volume (the finite-volume
-//    "cell agglomeration" of cut-cell methods) until the group meets a fraction of the median
-//    bound: their own equilibration time is far below any step, so a shared content is what
-//    backward Euler would give them anyway, and the group's volume is conserved.
+//  - Stiff texels are merged into control volumes (DiffusionGroups.hpp): their own equilibration
+//    time is far below any step, so a shared content is what backward Euler would give them
+//    anyway, and the group's volume is conserved.
 //  - Evaporation: Hall and Hoff (2009, "Water Transport in Brick, Stone and Concrete", paper eq.
 //    10), e = D_w (p_sat M / (R tau)) dH/dx with dH/dx = (1 - H) / boundary layer, per unit area,
 //    while the surface is wet (constant-rate stage); below a critical saturation the liquid must
@@ -229,94 +226,11 @@ Expected<Wetting> Wetting::create(TexelAdjacency adjacency, const SurfaceTexture
 }
 
 void Wetting::buildDiffusionGroups() {
-  const TexelAdjacency& g = adjacency_;
-  const std::size_t n = g.area.size(), pairs = g.pairCount();
-  std::vector<std::uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  if (settings_.mergeBelowFraction > 0.0 && pairs > 0) {
-    // Bound per texel (s * D): A_i / sum_j g_ij; the merge threshold is a fraction of the median.
-    std::vector<double> bounds;
-    bounds.reserve(n);
-    for (std::size_t i = 0; i < n; ++i)
-      if (g.area[i] > 0.0 && g.conductanceSum[i] > 0.0) bounds.push_back(g.area[i] / g.conductanceSum[i]);
-    std::nth_element(bounds.begin(), bounds.begin() + static_cast<std::ptrdiff_t>(bounds.size() / 2), bounds.end());
-    const double threshold = settings_.mergeBelowFraction * bounds[bounds.size() / 2];
-    std::vector<double> area(n), conductance(n), strongest(n);
-    std::vector<std::uint32_t> partner(n);
-    std::vector<std::uint8_t> merged(n);
-    // Each pass pairs every stiff group with its most strongly coupled neighbour group (each group
-    // joins at most one merge per pass, so groups grow by doubling, not by chains); 32 passes allow
-    // groups of 2^32 texels, more than any texture holds.
-    for (int pass = 0; pass < 32; ++pass) {
-      std::fill(area.begin(), area.end(), 0.0);
-      std::fill(conductance.begin(), conductance.end(), 0.0);
-      std::fill(strongest.begin(), strongest.end(), 0.0);
-      std::fill(merged.begin(), merged.end(), std::uint8_t{0});
-      for (std::uint32_t i = 0; i < n; ++i) area[find(i)] += g.area[i];
-      for (std::size_t p = 0; p < pairs; ++p) {
-        const std::uint32_t a = find(g.first[p]), b = find(g.second[p]);
-        if (a == b) continue;
-        conductance[a] += g.conductance[p];
-        conductance[b] += g.conductance[p];
-        if (g.conductance[p] > strongest[a]) strongest[a] = g.conductance[p], partner[a] = b;
-        if (g.conductance[p] > strongest[b]) strongest[b] = g.conductance[p], partner[b] = a;
-      }
-      bool any = false;
-      for (std::uint32_t r = 0; r < n; ++r) {
-        if (parent[r] != r || merged[r] || !(conductance[r] > 0.0) || area[r] >= threshold * conductance[r]) continue;
-        const std::uint32_t other = partner[r];
-        if (merged[other]) continue;
-        // The larger group holds the union, so that the holding texel stays inside the bulk.
-        const bool keep = area[r] >= area[other];
-        parent[keep ? other : r] = keep ? r : other;
-        merged[r] = merged[other] = 1;
-        any = true;
-      }
-      if (!any) break;
-    }
-  }
-  // Groups: the holding texel is the root; members listed after it.
-  std::vector<std::uint32_t> count(n, 0);
-  for (std::uint32_t i = 0; i < n; ++i) ++count[find(i)];
-  nodeArea_.assign(n, 0.0);
-  for (std::uint32_t i = 0; i < n; ++i) nodeArea_[find(i)] += g.area[i];
-  groupStart_.clear();
-  groupMembers_.clear();
-  std::vector<std::uint32_t> slot(n, 0);
-  for (std::uint32_t r = 0; r < n; ++r)
-    if (parent[r] == r && count[r] > 1) {
-      groupStart_.push_back(static_cast<std::uint32_t>(groupMembers_.size()));
-      slot[r] = static_cast<std::uint32_t>(groupMembers_.size());
-      groupMembers_.resize(groupMembers_.size() + count[r]);
-      groupMembers_[slot[r]++] = r;
-    }
-  if (!groupStart_.empty()) groupStart_.push_back(static_cast<std::uint32_t>(groupMembers_.size()));
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t r = find(i);
-    if (r != i && count[r] > 1) groupMembers_[slot[r]++] = i;
-  }
+  groups_ = mergeStiffTexels(adjacency_, settings_.mergeBelowFraction);
+  const std::size_t n = groups_.nodeArea.size();
   inverseNodeArea_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) inverseNodeArea_[i] = nodeArea_[i] > 0.0 ? static_cast<float>(1.0 / nodeArea_[i]) : 0.0f;
-  // Pairs between groups, on their holding texels; internal pairs carry nothing (equal contents).
-  pairFirst_.clear();
-  pairSecond_.clear();
-  pairGeometric_.clear();
-  std::vector<double> conductanceSum(n, 0.0);
-  for (std::size_t p = 0; p < pairs; ++p) {
-    const std::uint32_t a = find(g.first[p]), b = find(g.second[p]);
-    if (a == b) continue;
-    pairFirst_.push_back(a);
-    pairSecond_.push_back(b);
-    pairGeometric_.push_back(g.conductance[p]);
-    conductanceSum[a] += g.conductance[p];
-    conductanceSum[b] += g.conductance[p];
-  }
-  // The explicit sweep's layout: per holding texel, its pairs towards higher indices (CSR), with
-  // the float D g_ij of each; the ring that carries fluxes forward spans the longest such reach.
+  for (std::size_t i = 0; i < n; ++i)
+    inverseNodeArea_[i] = groups_.nodeArea[i] > 0.0 ? static_cast<float>(1.0 / groups_.nodeArea[i]) : 0.0f;
   // The explicit sweep's layout: per holding texel, its pair to the next texel and one other pair
   // towards a higher index (the texel below, on a chart) in fixed slots, any more (seams) in a
   // list sorted by their lower texel; D g_ij in float. The ring that carries fluxes forward spans
@@ -327,15 +241,15 @@ void Wetting::buildDiffusionGroups() {
   extraFirst_.clear();
   extraSecond_.clear();
   extraConductance_.clear();
-  std::vector<std::uint32_t> order(pairFirst_.size());
+  std::vector<std::uint32_t> order(groups_.pairFirst.size());
   std::iota(order.begin(), order.end(), 0u);
-  auto low = [&](std::uint32_t p) { return std::min(pairFirst_[p], pairSecond_[p]); };
-  auto high = [&](std::uint32_t p) { return std::max(pairFirst_[p], pairSecond_[p]); };
+  auto low = [&](std::uint32_t p) { return std::min(groups_.pairFirst[p], groups_.pairSecond[p]); };
+  auto high = [&](std::uint32_t p) { return std::max(groups_.pairFirst[p], groups_.pairSecond[p]); };
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return low(a) < low(b); });
   std::size_t reach = 1;
   for (const std::uint32_t p : order) {
     const std::uint32_t i = low(p), j = high(p);
-    const auto c = static_cast<float>(settings_.diffusivity * pairGeometric_[p]);
+    const auto c = static_cast<float>(settings_.diffusivity * groups_.pairGeometric[p]);
     if (!(c > 0.0f)) continue;  // carries nothing (D = 0)
     reach = std::max<std::size_t>(reach, j - i);
     if (j == i + 1 && nextConductance_[i] == 0.0f) {
@@ -354,10 +268,7 @@ void Wetting::buildDiffusionGroups() {
   while (ringSize <= reach) ringSize *= 2;
   ring_.assign(ringSize, 0.0f);
   pigmentRing_.assign(ringSize, 0.0f);
-  stableStep_ = std::numeric_limits<double>::infinity();
-  if (settings_.diffusivity > 0.0)
-    for (std::size_t i = 0; i < n; ++i)
-      if (conductanceSum[i] > 0.0) stableStep_ = std::min(stableStep_, nodeArea_[i] / (settings_.diffusivity * conductanceSum[i]));
+  stableStep_ = groups_.stableTimeStep(settings_.diffusivity);
 }
 
 Status checkWettingStep(const WettingEnvironment& environment, double dt) {
@@ -405,7 +316,7 @@ Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingE
 }
 
 int Wetting::explicitSubsteps(double dt) const {
-  if (!(dt > 0.0) || pairFirst_.empty() || !(settings_.diffusivity > 0.0)) return 0;
+  if (!(dt > 0.0) || groups_.pairFirst.empty() || !(settings_.diffusivity > 0.0)) return 0;
   const double substeps = std::ceil(dt / stableStep_);
   return substeps <= settings_.maxExplicitSubsteps ? std::max(1, static_cast<int>(substeps)) : -1;
 }
@@ -419,11 +330,11 @@ void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& enviro
   std::size_t exchanged = 0;
   // The sweep of texels below `end` reads texels below end + reach (the ring's size bounds it).
   const std::size_t reach = ring_.size();
-  const std::size_t groups = groupStart_.empty() ? 0 : groupStart_.size() - 1;
+  const std::size_t groups = groups_.start.empty() ? 0 : groups_.start.size() - 1;
   // One past a group's highest member: members follow the holder in increasing index, so the
   // last one is the highest unless the holder is.
   auto groupEnd = [&](std::size_t g) -> std::size_t {
-    return std::max(groupMembers_[groupStart_[g]], groupMembers_[groupStart_[g + 1] - 1]) + std::size_t{1};
+    return std::max(groups_.members[groups_.start[g]], groups_.members[groups_.start[g + 1] - 1]) + std::size_t{1};
   };
   std::size_t pooled = 0;  // groups below this one are pooled: every group whose holder is below `exchanged`
   auto ahead = [&](std::size_t end) {
@@ -431,7 +342,7 @@ void Wetting::fusedStep(LiquidTexture& texture, const WettingEnvironment& enviro
     if (upTo <= exchanged) return;
     // A holder about to be read needs its whole group exchanged first (members may lie further on).
     std::size_t ready = pooled;
-    while (ready < groups && groupMembers_[groupStart_[ready]] < upTo) upTo = std::max(upTo, groupEnd(ready++));
+    while (ready < groups && groups_.members[groups_.start[ready]] < upTo) upTo = std::max(upTo, groupEnd(ready++));
     exchangeRange<Flat>(texture, k, exchanged, upTo, totals);
     exchanged = upTo;
     for (; pooled < ready; ++pooled) poolGroup(texture, pooled);
@@ -659,27 +570,27 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {
-  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k) poolGroup(texture, k);
+  for (std::size_t k = 0; k + 1 < groups_.start.size(); ++k) poolGroup(texture, k);
 }
 
 void Wetting::poolGroup(LiquidTexture& texture, std::size_t k) const {
   double volume = 0.0, pigment = 0.0;
-  for (std::uint32_t m = groupStart_[k]; m < groupStart_[k + 1]; ++m) {
-    const std::uint32_t i = groupMembers_[m];
+  for (std::uint32_t m = groups_.start[k]; m < groups_.start[k + 1]; ++m) {
+    const std::uint32_t i = groups_.members[m];
     volume += static_cast<double>(texture.liquid[i]) * adjacency_.area[i];
     if (!texture.pigment.empty()) pigment += static_cast<double>(texture.pigment[i]) * adjacency_.area[i];
   }
-  const std::uint32_t holder = groupMembers_[groupStart_[k]];
-  texture.liquid[holder] = static_cast<float>(volume / nodeArea_[holder]);
-  if (!texture.pigment.empty()) texture.pigment[holder] = static_cast<float>(pigment / nodeArea_[holder]);
+  const std::uint32_t holder = groups_.members[groups_.start[k]];
+  texture.liquid[holder] = static_cast<float>(volume / groups_.nodeArea[holder]);
+  if (!texture.pigment.empty()) texture.pigment[holder] = static_cast<float>(pigment / groups_.nodeArea[holder]);
 }
 
 void Wetting::spreadGroups(LiquidTexture& texture) const {
-  for (std::size_t k = 0; k + 1 < groupStart_.size(); ++k) {
-    const std::uint32_t holder = groupMembers_[groupStart_[k]];
-    for (std::uint32_t m = groupStart_[k] + 1; m < groupStart_[k + 1]; ++m) {
-      texture.liquid[groupMembers_[m]] = texture.liquid[holder];
-      if (!texture.pigment.empty()) texture.pigment[groupMembers_[m]] = texture.pigment[holder];
+  for (std::size_t k = 0; k + 1 < groups_.start.size(); ++k) {
+    const std::uint32_t holder = groups_.members[groups_.start[k]];
+    for (std::uint32_t m = groups_.start[k] + 1; m < groups_.start[k + 1]; ++m) {
+      texture.liquid[groups_.members[m]] = texture.liquid[holder];
+      if (!texture.pigment.empty()) texture.pigment[groups_.members[m]] = texture.pigment[holder];
     }
   }
 }
@@ -802,17 +713,17 @@ void Wetting::sweep(LiquidTexture& texture, float step, Ahead&& ahead) {
 }
 
 void Wetting::diffuseImplicit(LiquidTexture& texture, double dt) {
-  const std::size_t n = nodeArea_.size();
+  const std::size_t n = groups_.nodeArea.size();
   ImplicitSystem& system = *implicit_;
   if (system.dt != dt) {
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(n + 4 * pairFirst_.size());
+    entries.reserve(n + 4 * groups_.pairFirst.size());
     for (std::size_t i = 0; i < n; ++i)
       // A texel without area (or inside a group) has no pairs; a unit diagonal keeps the matrix regular.
-      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), nodeArea_[i] > 0.0 ? nodeArea_[i] : 1.0);
-    for (std::size_t p = 0; p < pairFirst_.size(); ++p) {
-      const int i = static_cast<int>(pairFirst_[p]), j = static_cast<int>(pairSecond_[p]);
-      const double c = dt * settings_.diffusivity * pairGeometric_[p];
+      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), groups_.nodeArea[i] > 0.0 ? groups_.nodeArea[i] : 1.0);
+    for (std::size_t p = 0; p < groups_.pairFirst.size(); ++p) {
+      const int i = static_cast<int>(groups_.pairFirst[p]), j = static_cast<int>(groups_.pairSecond[p]);
+      const double c = dt * settings_.diffusivity * groups_.pairGeometric[p];
       entries.emplace_back(i, i, c);
       entries.emplace_back(j, j, c);
       entries.emplace_back(i, j, -c);
@@ -831,27 +742,27 @@ void Wetting::diffuseImplicit(LiquidTexture& texture, double dt) {
   system.start.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) {
     system.start[static_cast<Eigen::Index>(i)] = texture.liquid[i];
-    system.rhs[static_cast<Eigen::Index>(i)] = (nodeArea_[i] > 0.0 ? nodeArea_[i] : 1.0) * texture.liquid[i];
+    system.rhs[static_cast<Eigen::Index>(i)] = (groups_.nodeArea[i] > 0.0 ? groups_.nodeArea[i] : 1.0) * texture.liquid[i];
   }
   system.solution = system.solver.solveWithGuess(system.rhs, system.start);
-  system.flux.resize(pairFirst_.size());
+  system.flux.resize(groups_.pairFirst.size());
   for (std::size_t p = 0; p < system.flux.size(); ++p)
-    system.flux[p] = dt * settings_.diffusivity * pairGeometric_[p] *
-                     (system.solution[pairFirst_[p]] - system.solution[pairSecond_[p]]);
+    system.flux[p] = dt * settings_.diffusivity * groups_.pairGeometric[p] *
+                     (system.solution[groups_.pairFirst[p]] - system.solution[groups_.pairSecond[p]]);
   applyPairFluxes(texture);
 }
 
 void Wetting::applyPairFluxes(LiquidTexture& texture) {
-  const std::size_t n = nodeArea_.size();
+  const std::size_t n = groups_.nodeArea.size();
   std::vector<double>& flux = implicit_->flux;
   std::vector<double>& volume = implicit_->volume;
   std::vector<double>& pigment = implicit_->pigment;
   volume.resize(n);
   pigment.resize(texture.pigment.size());
-  for (std::size_t i = 0; i < n; ++i) volume[i] = texture.liquid[i] * nodeArea_[i];
-  for (std::size_t i = 0; i < pigment.size(); ++i) pigment[i] = texture.pigment[i] * nodeArea_[i];
+  for (std::size_t i = 0; i < n; ++i) volume[i] = texture.liquid[i] * groups_.nodeArea[i];
+  for (std::size_t i = 0; i < pigment.size(); ++i) pigment[i] = texture.pigment[i] * groups_.nodeArea[i];
   for (std::size_t p = 0; p < flux.size(); ++p) {
-    const std::uint32_t i = pairFirst_[p], j = pairSecond_[p];
+    const std::uint32_t i = groups_.pairFirst[p], j = groups_.pairSecond[p];
     volume[i] -= flux[p];
     volume[j] += flux[p];
     if (!pigment.empty()) {
@@ -862,10 +773,10 @@ void Wetting::applyPairFluxes(LiquidTexture& texture) {
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(nodeArea_[i] > 0.0)) continue;
+    if (!(groups_.nodeArea[i] > 0.0)) continue;
     // A solver residual can leave a texel a rounding below zero; that is dropped, not stored.
-    texture.liquid[i] = static_cast<float>(std::max(0.0, volume[i] / nodeArea_[i]));
-    if (!pigment.empty()) texture.pigment[i] = static_cast<float>(std::max(0.0, pigment[i] / nodeArea_[i]));
+    texture.liquid[i] = static_cast<float>(std::max(0.0, volume[i] / groups_.nodeArea[i]));
+    if (!pigment.empty()) texture.pigment[i] = static_cast<float>(std::max(0.0, pigment[i] / groups_.nodeArea[i]));
   }
 }
 

@@ -235,10 +235,9 @@ int main(int argc, char** argv) {
 
   // Deforming body at 1024^2 on the GPU: vertices up, re-evaluation, then one hydrostatics query
   // (its read-back waits for the passes); and the liquid texture's diffusion at 1024^2 (one
-  // explicit sub-step, merging off on both sides; CPU Wetting::diffuse beside it).
+  // explicit sub-step, the same merged groups on both sides; CPU Wetting::diffuse beside it).
   {
     WettingSettings wetting;
-    wetting.mergeBelowFraction = 0.0;
     wetting.maxExplicitSubsteps = 1;
     Expected<TexelAdjacency> graph = buildTexelAdjacency(big.bake, big.mesh, big.atlas.layout);
     Expected<Wetting> cpuWetting = graph ? Wetting::create(*graph, big.textures, wetting) : Expected<Wetting>(graph.error());

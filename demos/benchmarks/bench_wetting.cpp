@@ -145,13 +145,12 @@ int main(int argc, char** argv) {
     if (!context) {
       std::printf("\nGL step skipped: %s\n", context.error().message.c_str());
     } else {
-      std::printf("\nGL liquid texture step on %s (plate, half submerged, rain; no merged texels; wall ms, medians of %d)\n",
+      std::printf("\nGL liquid texture step on %s (plate, half submerged, rain; default settings; wall ms, medians of %d)\n",
                   (*context)->renderer().c_str(), runs);
       std::printf("%-10s %6s %9s %5s %9s\n", "case", "res", "texels", "sub", "step ms");
       for (int resolution : {256, 512, 1024}) {
         Prepared p = prepare(plate(1.0), resolution);
         WettingSettings settings;
-        settings.mergeBelowFraction = 0.0;
         auto gl = gpu::GlWetting::create(**context, p.graph, p.textures, settings);
         if (!gl) {
           std::fprintf(stderr, "%s\n", gl.error().message.c_str());

@@ -3,7 +3,7 @@
 //  - Under a flat liquid surface (pressure rho g depth): Darcy's law against the pores'
 //    back-pressure (paper eq. 9), S -> capacity exactly exponentially, tau = mu L C / (k P).
 //  - In the air: the sources' supply up to capacity (rain on the texel's projection across the
-//    fall, spheres inside their radius), then Hall and Hoff's evaporation (paper eq. 10):
+//    fall, spheres inside their radius) with its pigment, then Hall and Hoff's evaporation (paper eq. 10):
 //    constant rate down to the critical content, then first order, both integrated exactly.
 // Volumes moved (change * area) are summed per work group in shared memory and written as one
 // partial per group; the host adds the partials in double.
@@ -13,8 +13,8 @@ layout(std430, binding = 0) buffer Liquid { float liquid[]; };                  
 layout(std430, binding = 1) readonly buffer Capacity { float capacity[]; };      // m
 layout(std430, binding = 2) readonly buffer Permeability { float permeability[]; };  // m^2
 layout(std430, binding = 3) readonly buffer Area { float area[]; };              // m^2
-layout(std430, binding = 4) readonly buffer Position { float position[]; };      // x, y, z per texel (m, body)
-layout(std430, binding = 5) readonly buffer Normal { float normal[]; };          // x, y, z per texel (unit)
+layout(std430, binding = 4) readonly buffer Geometry { float geometry[]; };      // per texel: centroid x, y, z (m, body), unit normal x, y, z
+layout(std430, binding = 5) buffer Pigment { float pigment[]; };                 // m of pigment (read only withPigment)
 layout(std430, binding = 6) buffer Submerged { uint submerged[]; };              // 1 under the liquid
 layout(std430, binding = 7) writeonly buffer Partials { float partials[]; };     // per group: absorbed, evaporated, submerged
 
@@ -33,6 +33,8 @@ uniform int sourceRain[kMaxSources];       // 1 rain, 0 sphere
 uniform vec3 sourceVector[kMaxSources];    // rain: against the fall (body); sphere: centre (m, body)
 uniform float sourceRadiusSquared[kMaxSources];
 uniform float sourceDepth[kMaxSources];    // supply over the step (m)
+uniform float sourcePigment[kMaxSources];  // pigment volume fraction of the supplied liquid
+uniform bool withPigment;                  // the texture has a pigment channel
 
 shared float sharedAbsorbed[64];
 shared float sharedEvaporated[64];
@@ -66,7 +68,7 @@ void main() {
   float absorbedVolume = 0.0, evaporatedVolume = 0.0, isUnder = 0.0;
   if (i < texelCount && area[i] > 0.0) {
     float held = liquid[i], full = capacity[i], a = area[i];
-    vec3 p = vec3(position[3u * i], position[3u * i + 1u], position[3u * i + 2u]);
+    vec3 p = vec3(geometry[6u * i], geometry[6u * i + 1u], geometry[6u * i + 2u]);
     bool under = false;
     float pressure = 0.0;
     if (withLiquid) {
@@ -86,7 +88,7 @@ void main() {
       }
     } else {
       if (absorbing) {
-        vec3 n = vec3(normal[3u * i], normal[3u * i + 1u], normal[3u * i + 2u]);
+        vec3 n = vec3(geometry[6u * i + 3u], geometry[6u * i + 4u], geometry[6u * i + 5u]);
         for (int s = 0; s < sourceCount; ++s) {
           float supply = 0.0;
           if (sourceRain[s] != 0) {
@@ -96,7 +98,12 @@ void main() {
             vec3 d = p - sourceVector[s];
             supply = dot(d, d) <= sourceRadiusSquared[s] ? sourceDepth[s] : 0.0;
           }
-          current = max(current, min(current + supply, full));
+          float stored = min(current + supply, full);
+          if (stored > current) {
+            // The supply's pigment, added source by source as the CPU does.
+            if (withPigment) pigment[i] += (stored - current) * sourcePigment[s];
+            current = stored;
+          }
         }
       }
       absorbedVolume = (current - held) * a;

@@ -27,7 +27,7 @@ constexpr std::size_t kGroupSize = 64;  // wetting_exchange.comp's local_size_x
 struct GlWetting::Impl {
   std::unique_ptr<GlWettingDiffusion> diffusion;
   GlProgram program;
-  GlBuffer capacity, permeability, area, position, normal, submerged, partials;
+  GlBuffer capacity, permeability, area, geometry, submerged, partials;
   std::vector<float> partialsHost;  // per work group: absorbed, evaporated (m^3), submerged texels
 };
 
@@ -53,15 +53,16 @@ Expected<std::unique_ptr<GlWetting>> GlWetting::create(const EglContext& context
       "wetting_exchange.comp", {"#version 430 core\n", embeddedShader("wetting_exchange.comp")});
   if (!program) return Error{"gpu wetting: " + program.error().message};
   impl.program = std::move(program).value();
-  // The same float centroids, unit normals and areas as Wetting::create.
-  std::vector<float> area(n), position(3 * n), normal(3 * n);
+  // The same float centroids, unit normals and areas as Wetting::create; centroid and normal of
+  // a texel side by side in one buffer (the pass uses eight storage blocks, GL 4.3's minimum).
+  std::vector<float> area(n), geometry(6 * n);
   for (std::size_t i = 0; i < n; ++i) {
     area[i] = static_cast<float>(adjacency.area[i]);
     const float norm = textures.areaVector[i].norm();
     const Eigen::Vector3f unit = norm > 0.0f ? Eigen::Vector3f(textures.areaVector[i] / norm) : Eigen::Vector3f::Zero();
     for (int k = 0; k < 3; ++k) {
-      position[3 * i + k] = static_cast<float>(adjacency.centroid[i][k]);
-      normal[3 * i + k] = unit[k];
+      geometry[6 * i + k] = static_cast<float>(adjacency.centroid[i][k]);
+      geometry[6 * i + 3 + k] = unit[k];
     }
   }
   auto upload = [](const std::vector<float>& items) {
@@ -70,8 +71,7 @@ Expected<std::unique_ptr<GlWetting>> GlWetting::create(const EglContext& context
     return buffer;
   };
   impl.area = upload(area);
-  impl.position = upload(position);
-  impl.normal = upload(normal);
+  impl.geometry = upload(geometry);
   impl.capacity = GlBuffer(n * sizeof(float));
   impl.permeability = GlBuffer(n * sizeof(float));
   impl.submerged = GlBuffer(n * sizeof(std::uint32_t));
@@ -90,7 +90,6 @@ Status GlWetting::upload(const LiquidTexture& texture) {
   if (texture.liquid.size() != n || texture.capacity.size() != n || texture.permeability.size() != n)
     return Error{"gpu wetting: liquid texture has " + std::to_string(texture.liquid.size()) + " texels, the graph " +
                  std::to_string(n)};
-  if (!texture.pigment.empty()) return Error{"gpu wetting: the pigment channel is not on the GPU; use the CPU Wetting"};
   if (!(texture.layerThickness > 0.0 && std::isfinite(texture.layerThickness)))
     return Error{"gpu wetting: layer thickness " + std::to_string(texture.layerThickness) + " m is not positive"};
   if (Status s = impl_->diffusion->upload(texture); !s) return s;
@@ -131,8 +130,8 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   impl.capacity.bind(1);
   impl.permeability.bind(2);
   impl.area.bind(3);
-  impl.position.bind(4);
-  impl.normal.bind(5);
+  impl.geometry.bind(4);
+  const bool withPigment = impl.diffusion->bindPigment(5);
   impl.submerged.bind(6);
   impl.partials.bind(7);
   glUniform1ui(impl.program.uniform("texelCount"), static_cast<GLuint>(texelCount_));
@@ -147,6 +146,7 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   glUniform1f(impl.program.uniform("evaporationDepth"), static_cast<float>(rate * dt));
   glUniform1f(impl.program.uniform("criticalSaturation"), static_cast<float>(settings_.criticalSaturation));
   glUniform1i(impl.program.uniform("sourceCount"), static_cast<GLint>(sources.size()));
+  glUniform1i(impl.program.uniform("withPigment"), withPigment ? 1 : 0);
   for (std::size_t s = 0; s < sources.size(); ++s) {
     const LiquidSource& source = *sources[s];
     auto location = [&](const char* array) {
@@ -167,6 +167,7 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
     glUniform3f(location("sourceVector"), vector.x(), vector.y(), vector.z());
     glUniform1f(location("sourceRadiusSquared"), static_cast<float>(source.radius * source.radius));
     glUniform1f(location("sourceDepth"), static_cast<float>(source.rate * dt));
+    glUniform1f(location("sourcePigment"), static_cast<float>(source.pigment));
   }
   const auto groups = static_cast<GLuint>((texelCount_ + kGroupSize - 1) / kGroupSize);
   const GLuint x = std::min<GLuint>(std::max<GLuint>(groups, 1u), 65535u);

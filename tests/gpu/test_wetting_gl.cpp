@@ -1,7 +1,8 @@
 // Wetting's diffusion on the GPU (GlWettingDiffusion) against core's Wetting::diffuse on the same
 // graph: a UV sphere (pairs across its seam) with a patch of liquid, several steps of explicit
-// sub-steps, merging off on both sides; whole steps (GlWetting: absorption, sources, evaporation,
-// diffusion) against Wetting::step, and the GPU's own mass balance. The GL cases are skipped with
+// sub-steps, with and without merged stiff texels and a pigment channel; whole steps (GlWetting:
+// absorption, sources, evaporation, diffusion) against Wetting::step, and the GPU's own mass
+// balance. The GL cases are skipped with
 // a WARN only when no EGL context can be opened.
 #include <catch2/catch.hpp>
 
@@ -48,20 +49,28 @@ TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liqui
   const Graph graph = sphereGraph(64);
   WettingSettings settings;
   settings.diffusivity = 1e-4;
-  settings.mergeBelowFraction = 0.0;  // the GPU has no merged groups yet
+  settings.mergeBelowFraction = GENERATE(0.0, 0.1);  // merging off, and the default
+  const bool withPigment = GENERATE(false, true);
   settings.maxExplicitSubsteps = 1000;
+  CAPTURE(settings.mergeBelowFraction, withPigment);
   auto cpu = Wetting::create(graph.adjacency, graph.textures, settings);
   REQUIRE(cpu.ok());
+  // The default merges the squeezed texels at the poles: the GPU must pool and spread them.
+  CHECK((cpu->mergedGroupCount() > 0) == (settings.mergeBelowFraction > 0.0));
   auto gl = gpu::GlWettingDiffusion::create(**context, graph.adjacency, settings);
   INFO((gl ? std::string() : gl.error().message));
   REQUIRE(gl.ok());
-  CHECK((*gl)->stableTimeStep() == Approx(cpu->stableTimeStep()).epsilon(1e-12));  // the same bound
+  CHECK((*gl)->stableTimeStep() == cpu->stableTimeStep());  // the same bound of the same groups
 
-  // Liquid on the texels with x > 0.2 (a cap that touches the seam), saturated.
-  auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{});
+  // Liquid on the texels with x > 0.2 (a cap that touches the seam), saturated; with pigment,
+  // at a concentration that varies across the cap so that the upwind transport matters.
+  auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{}, {}, {}, withPigment);
   REQUIRE(texture.ok());
   for (std::size_t i = 0; i < texture->size(); ++i)
-    if (graph.textures.position[i].x() > 0.2f) texture->liquid[i] = texture->capacity[i];
+    if (graph.textures.position[i].x() > 0.2f) {
+      texture->liquid[i] = texture->capacity[i];
+      if (withPigment) texture->pigment[i] = texture->capacity[i] * (0.2f + 0.5f * graph.textures.position[i].y() + 0.25f);
+    }
   LiquidTexture onCpu = *texture, onGpu = *texture;
   const double before = held(*texture, graph.adjacency.area);
   REQUIRE(before > 0.0);
@@ -86,9 +95,23 @@ TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liqui
   CHECK(worst <= 1e-5 * capacity);
   CHECK(moved >= 0.01 * capacity);  // the pole texels bound the step, so the front moves slowly elsewhere
   // Mass balance: antisymmetric pair fluxes; what remains is each texel's float sum, 1e-6
-  // relative over 50 sub-steps (the CPU's own float path is held to the same).
+  // relative over 50 sub-steps (the CPU's own float path is held to the same). Pooling and
+  // spreading a group sum its members in float on the GPU (double on the CPU): within the same.
   CHECK(std::abs(held(onGpu, graph.adjacency.area) - before) <= 1e-6 * before);
   CHECK(std::abs(held(onCpu, graph.adjacency.area) - before) <= 1e-6 * before);
+  if (withPigment) {
+    // The pigment: the same tolerances (its fluxes are the liquid's times a concentration <= 1).
+    double pigmentBefore = 0.0, pigmentGpu = 0.0, pigmentCpu = 0.0, worstPigment = 0.0;
+    for (std::size_t i = 0; i < onGpu.size(); ++i) {
+      pigmentBefore += double(texture->pigment[i]) * graph.adjacency.area[i];
+      pigmentGpu += double(onGpu.pigment[i]) * graph.adjacency.area[i];
+      pigmentCpu += double(onCpu.pigment[i]) * graph.adjacency.area[i];
+      worstPigment = std::max(worstPigment, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
+    }
+    CHECK(worstPigment <= 1e-5 * capacity);
+    CHECK(std::abs(pigmentGpu - pigmentBefore) <= 1e-6 * pigmentBefore);
+    CHECK(std::abs(pigmentCpu - pigmentBefore) <= 1e-6 * pigmentBefore);
+  }
 }
 
 TEST_CASE("GL wetting diffusion refuses what it does not do, with errors", "[gpu][wetting]") {
@@ -98,10 +121,7 @@ TEST_CASE("GL wetting diffusion refuses what it does not do, with errors", "[gpu
     return;
   }
   const Graph graph = sphereGraph(32);
-  WettingSettings merging;  // default: merging on
-  CHECK(!gpu::GlWettingDiffusion::create(**context, graph.adjacency, merging).ok());
   WettingSettings settings;
-  settings.mergeBelowFraction = 0.0;
   settings.diffusivity = 1e-4;
   auto gl = gpu::GlWettingDiffusion::create(**context, graph.adjacency, settings);
   REQUIRE(gl.ok());
@@ -111,6 +131,14 @@ TEST_CASE("GL wetting diffusion refuses what it does not do, with errors", "[gpu
   wrong.liquid.assign(3, 0.0f);
   CHECK(!(*gl)->upload(wrong).ok());
   CHECK(!(*gl)->download(wrong).ok());
+  // A pigment channel must come back into a texture that has one.
+  auto pigmented = makeLiquidTexture(graph.textures.size(), WettingMaterial{}, {}, {}, true);
+  REQUIRE(pigmented.ok());
+  REQUIRE((*gl)->upload(*pigmented).ok());
+  auto plain = makeLiquidTexture(graph.textures.size(), WettingMaterial{});
+  REQUIRE(plain.ok());
+  CHECK(!(*gl)->download(*plain).ok());
+  CHECK((*gl)->download(*pigmented).ok());
   TexelAdjacency bad = graph.adjacency;
   bad.first[0] = std::uint32_t(bad.area.size() + 5);
   CHECK(!gpu::GlWettingDiffusion::create(**context, bad, settings).ok());
@@ -127,7 +155,9 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   settings.diffusivity = 1e-6;
   settings.capillaryPressure = 500.0;
   settings.relativeHumidity = 0.2;
-  settings.mergeBelowFraction = 0.0;  // the GPU has no merged groups
+  settings.mergeBelowFraction = GENERATE(0.0, 0.1);  // merging off, and the default
+  const bool withPigment = GENERATE(false, true);
+  CAPTURE(settings.mergeBelowFraction, withPigment);
   settings.maxExplicitSubsteps = 1000;
   auto cpu = Wetting::create(graph.adjacency, graph.textures, settings);
   REQUIRE(cpu.ok());
@@ -135,10 +165,12 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   INFO((gl ? std::string() : gl.error().message));
   REQUIRE(gl.ok());
 
-  auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{});
+  auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{}, {}, {}, withPigment);
   REQUIRE(texture.ok());
   // Every fill level from dry to 6/7 full, so that both drying stages and Darcy's uptake run.
   for (std::size_t i = 0; i < texture->size(); ++i) texture->liquid[i] = texture->capacity[i] * float(i % 7) / 7.0f;
+  if (withPigment)
+    for (std::size_t i = 0; i < texture->size(); ++i) texture->pigment[i] = 0.1f * texture->liquid[i];
   LiquidTexture onCpu = *texture, onGpu = *texture;
   REQUIRE((*gl)->upload(onGpu).ok());
   // A third under water (pressure up to 6 kPa: Darcy's tau is about 1 s), rain on the part in the
@@ -154,6 +186,7 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   hose.centre = Eigen::Vector3d(0.5, 0.3, 0.0);
   hose.radius = 0.2;
   hose.rate = 1e-4;
+  hose.pigment = 0.4;  // a coloured liquid from the hose, clear rain
   environment.sources = {rain, hose};
   const std::vector<double>& area = graph.adjacency.area;
   const double held0 = texture->heldVolume(area);
@@ -192,6 +225,20 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   const double heldGpu = onGpu.heldVolume(area);
   CHECK(heldGpu == Approx(held0 + absorbedGpu - evaporatedGpu).margin(1e-7 * held0));
   CHECK(onCpu.heldVolume(area) == Approx(held0 + absorbedCpu - evaporatedCpu).margin(1e-7 * held0));
+  if (withPigment) {
+    // The hose's pigment came in and spread as on the CPU: per texel within the liquid's
+    // tolerance, totals to 1e-6 (float sums of the same additions in another order).
+    double pigmentGpu = 0.0, pigmentCpu = 0.0, pigment0 = 0.0, worstPigment = 0.0;
+    for (std::size_t i = 0; i < onGpu.size(); ++i) {
+      pigment0 += double(texture->pigment[i]) * area[i];
+      pigmentGpu += double(onGpu.pigment[i]) * area[i];
+      pigmentCpu += double(onCpu.pigment[i]) * area[i];
+      worstPigment = std::max(worstPigment, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
+    }
+    REQUIRE(pigmentCpu > 1.01 * pigment0);  // the hose brought pigment: the check below is not void
+    CHECK(worstPigment <= 1e-5 * texture->capacity[0]);
+    CHECK(pigmentGpu == Approx(pigmentCpu).epsilon(1e-6));
+  }
 }
 
 TEST_CASE("GL wetting refuses what is CPU only, with errors", "[gpu][wetting]") {
@@ -201,15 +248,11 @@ TEST_CASE("GL wetting refuses what is CPU only, with errors", "[gpu][wetting]") 
     return;
   }
   const Graph graph = sphereGraph(32);
-  WettingSettings settings;
-  settings.mergeBelowFraction = 0.0;
+  WettingSettings settings;  // defaults: merged stiff texels
   auto gl = gpu::GlWetting::create(**context, graph.adjacency, graph.textures, settings);
   REQUIRE(gl.ok());
   WettingEnvironment environment;
   CHECK_FALSE((*gl)->step(environment, 0.01).ok());  // nothing uploaded
-  auto pigmented = makeLiquidTexture(graph.textures.size(), WettingMaterial{}, {}, {}, true);
-  REQUIRE(pigmented.ok());
-  CHECK_FALSE((*gl)->upload(*pigmented).ok());
   auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{});
   REQUIRE((*gl)->upload(*texture).ok());
   UniformMedium medium(1000.0);

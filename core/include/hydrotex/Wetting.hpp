@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "hydrotex/DiffusionGroups.hpp"
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/LiquidTexture.hpp"
@@ -115,9 +116,11 @@ class Wetting {
   /// Largest stable explicit step (s) of the diffusion (after merging stiff texels).
   double stableTimeStep() const { return stableStep_; }
   /// Number of merged diffusion groups (of two or more texels).
-  std::size_t mergedGroupCount() const { return groupStart_.empty() ? 0 : groupStart_.size() - 1; }
+  std::size_t mergedGroupCount() const { return groups_.groupCount(); }
   /// Number of texels in merged diffusion groups.
-  std::size_t mergedTexelCount() const { return groupMembers_.size(); }
+  std::size_t mergedTexelCount() const { return groups_.members.size(); }
+  /// The diffusion's control volumes (merged stiff texels) and the pairs between them.
+  const DiffusionGroups& diffusionGroups() const { return groups_; }
 
   /// Moves the solver (the cached implicit system is kept).
   Wetting(Wetting&&) noexcept;
@@ -173,14 +176,10 @@ class Wetting {
   std::vector<float> area_;                  // texel areas in float for the per-texel pass (m^2)
   std::vector<float> pressure_;              // scratch: liquid pressure per texel under a non-flat surface (Pa)
   std::vector<std::uint8_t> submerged_;
-  // Diffusion runs on groups of texels: most are alone; a merged group's liquid is pooled into its
-  // first texel, diffused there with the group's area, and copied back to every member.
-  std::vector<std::uint32_t> groupStart_;    // CSR ranges into groupMembers_ (groups of two or more)
-  std::vector<std::uint32_t> groupMembers_;  // first member of each range holds the group
-  std::vector<double> nodeArea_;             // group area on the holding texel, own area when alone, 0 otherwise (m^2)
-  std::vector<float> inverseNodeArea_;       // 1 / nodeArea_, 0 where nodeArea_ is 0 (1/m^2)
-  std::vector<std::uint32_t> pairFirst_, pairSecond_;  // pairs between holding texels (internal pairs dropped)
-  std::vector<double> pairGeometric_;        // g_ij of those pairs (dimensionless)
+  // Diffusion runs on groups of texels (DiffusionGroups): most are alone; a merged group's liquid
+  // is pooled into its first texel, diffused there with the group's area, and copied back.
+  DiffusionGroups groups_;
+  std::vector<float> inverseNodeArea_;       // 1 / groups_.nodeArea, 0 where that is 0 (1/m^2)
   std::vector<float> nextConductance_;       // D g of the pair (i, i + 1), 0 without one (m^2/s)
   std::vector<float> otherConductance_;      // D g of one other pair (i, i + otherOffset_), 0 without one (m^2/s)
   std::vector<std::uint32_t> otherOffset_;   // its index offset (0 without one)

@@ -5,9 +5,10 @@
 /// (paper eq. 10) in one pass (wetting_exchange.comp, the float equations of Wetting.cpp), then
 /// the diffusion sub-steps of GlWettingDiffusion. The liquid stays on the GPU between steps; the
 /// volumes moved come back per work group and are summed in double, so the balance
-/// absorbed = held + evaporated holds to float rounding as on the CPU. Limits (each an Error,
-/// never a crash): flat liquid surfaces or none (a wavy surface's pressure is the CPU's), up to
-/// kMaxSources sources, no pigment channel, no merged stiff texels, explicit diffusion only.
+/// absorbed = held + evaporated holds to float rounding as on the CPU. The pigment channel and
+/// merged stiff texels are carried as on the CPU. Limits (each an Error, never a crash): flat
+/// liquid surfaces or none (a wavy surface's pressure is the CPU's), up to kMaxSources sources,
+/// explicit diffusion only (a step that needs more than maxExplicitSubsteps sub-steps).
 
 #include <memory>
 
@@ -35,16 +36,17 @@ class GlWetting {
   GlWetting(const GlWetting&) = delete;
   GlWetting& operator=(const GlWetting&) = delete;
 
-  /// Copies the texture's liquid (m), capacity (m) and permeability (m^2) per texel and its
-  /// layer thickness (m) to the GPU. Errors: a size that is not the texel count, a pigment
-  /// channel (CPU only).
+  /// Copies the texture's liquid (m), capacity (m), permeability (m^2) and pigment (when it has
+  /// that channel) per texel and its layer thickness (m) to the GPU. Errors: a size that is not
+  /// the texel count, a layer thickness that is not positive.
   Status upload(const LiquidTexture& texture);
   /// One step of `dt` seconds, as Wetting::step: absorption, sources and evaporation, then
   /// diffusion. The report's volumes are m^3. Errors (nothing done): those of Wetting::step, a
   /// liquid surface that is not flat, more than kMaxSources sources, nothing uploaded, a step
   /// that needs the implicit diffusion.
   Expected<WettingStepReport> step(const WettingEnvironment& environment, double dt);
-  /// Copies the resident liquid (m per texel) back into `texture`. Error on a size mismatch.
+  /// Copies the resident liquid (m per texel) and pigment back into `texture`. Error on a size
+  /// mismatch or a pigment channel that differs from the uploaded texture's.
   Status download(LiquidTexture& texture) const;
   /// Largest stable explicit diffusion step (s).
   double stableTimeStep() const;

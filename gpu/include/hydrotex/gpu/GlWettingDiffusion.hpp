@@ -1,12 +1,12 @@
 #pragma once
 /// @file GlWettingDiffusion.hpp
 /// The diffusion of core's Wetting (Fick's law on the texel graph, explicit sub-steps under the
-/// computed stability bound) on the GPU, same results as Wetting::diffuse to float rounding. The
-/// graph is uploaded once; the liquid stays on the GPU between steps (upload / download when the
-/// host needs it). GlWetting adds the absorption, sources and evaporation pass for a whole step.
-/// Not on the GPU: merged stiff texels (WettingSettings::mergeBelowFraction must be 0), the
-/// implicit fallback (a step that needs more than maxExplicitSubsteps answers an Error), and the
-/// pigment channel.
+/// computed stability bound) on the GPU, same results as Wetting::diffuse to float rounding: the
+/// same merged groups of stiff texels (mergeStiffTexels) and the pigment channel carried upwind.
+/// The graph is uploaded once; the liquid stays on the GPU between steps (upload / download when
+/// the host needs it). GlWetting adds the absorption, sources and evaporation pass for a whole
+/// step. Not on the GPU: the implicit fallback (a step that needs more than maxExplicitSubsteps
+/// answers an Error; the CPU's Wetting solves it).
 
 #include <memory>
 
@@ -21,30 +21,36 @@ namespace hydrotex::gpu {
 /// Liquid diffusion of one body on the GPU.
 class GlWettingDiffusion {
  public:
-  /// Uploads the graph (a CSR neighbour list: per texel its pairs' other texel and D g_ij) and
-  /// 1 / area per texel. `context` must outlive the object and is made current on every call.
-  /// Errors: bad settings, merging asked for (mergeBelowFraction > 0), a graph naming a texel out
-  /// of range, a shader that does not compile.
+  /// Merges the stiff texels as Wetting does (settings.mergeBelowFraction) and uploads the
+  /// groups and the graph between them (a CSR neighbour list: per holding texel its pairs' other
+  /// holder and D g_ij, and 1 / group area). `context` must outlive the object and is made
+  /// current on every call. Errors: bad settings, a graph naming a texel out of range, a shader
+  /// that does not compile.
   static Expected<std::unique_ptr<GlWettingDiffusion>> create(const EglContext& context, const TexelAdjacency& adjacency,
                                                               const WettingSettings& settings);
   ~GlWettingDiffusion();
   GlWettingDiffusion(const GlWettingDiffusion&) = delete;
   GlWettingDiffusion& operator=(const GlWettingDiffusion&) = delete;
 
-  /// Copies the liquid (m per texel) to the GPU. Error when its size is not the texel count.
+  /// Copies the liquid (m per texel), and the pigment channel when the texture has one, to the
+  /// GPU. Error when a size is not the texel count.
   Status upload(const LiquidTexture& texture);
   /// Diffuses the resident liquid for `dt` seconds in ceil(dt / stableTimeStep()) explicit
   /// sub-steps, as Wetting::diffuse; returns the sub-steps (0 for dt <= 0 or no pairs). Error,
   /// with nothing done, when more than maxExplicitSubsteps are needed (the CPU then solves
   /// implicitly) or dt is not finite.
   Expected<int> diffuse(double dt);
-  /// Copies the resident liquid back into `texture` (waits for the GPU). Error on a size mismatch.
+  /// Copies the resident liquid (and pigment) back into `texture` (waits for the GPU). Error on a
+  /// size mismatch or a texture whose pigment channel differs from the uploaded one's.
   Status download(LiquidTexture& texture) const;
   /// Binds the resident liquid (m per texel) to shader storage binding `binding` of the current
   /// context, for passes that change it between diffusion steps (GlWetting's absorption and
   /// evaporation). The context must be current.
   void bindLiquid(unsigned binding) const;
-  /// Largest stable explicit step (s): TexelAdjacency::stableTimeStep of the diffusivity.
+  /// Binds the resident pigment (m of pigment per texel) to storage binding `binding` and returns
+  /// true; without a pigment channel binds the liquid there (not to be read) and returns false.
+  bool bindPigment(unsigned binding) const;
+  /// Largest stable explicit step (s) of the merged groups: DiffusionGroups::stableTimeStep.
   double stableTimeStep() const { return stableStep_; }
   /// Number of texels.
   std::size_t texelCount() const { return texelCount_; }
