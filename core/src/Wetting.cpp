@@ -26,6 +26,7 @@
 #include <cmath>
 #include <limits>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -47,91 +48,159 @@ double saturationVapourPressure(double kelvin) {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// Four texels at a time in GCC/Clang vector extensions (SSE2 on x86-64, NEON on ARM): the
-// per-texel pass is arithmetic on independent texels, and the stage of each (under the liquid,
-// wet, drying) is selected per lane instead of branched to.
-using Lanes = float __attribute__((vector_size(16)));
-using LaneMask = std::int32_t __attribute__((vector_size(16)));
-constexpr std::size_t kLaneCount = 4;
-
-inline Lanes splat(float x) { return Lanes{x, x, x, x}; }
-inline Lanes select(LaneMask mask, Lanes a, Lanes b) {
-  return reinterpret_cast<Lanes>((mask & reinterpret_cast<LaneMask>(a)) | (~mask & reinterpret_cast<LaneMask>(b)));
+// Whether the exchange runs eight lanes: the processor has AVX2 and HYDROTEX_DISABLE_AVX2 is not
+// set (read once per step, so that a test can compare both widths in one process).
+bool wideExchange() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool hasAvx2 = __builtin_cpu_supports("avx2");
+  return hasAvx2 && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
+#else
+  return false;
+#endif
 }
-inline Lanes minimum(Lanes a, Lanes b) { return select(a < b, a, b); }
-// `count` (1..4) values from `p`; the lanes past them are 0. A whole block is one unaligned move.
-inline Lanes load(const float* p, std::size_t count) {
-  Lanes v = splat(0.0f);
-  if (count == kLaneCount)
+
+// Texels a lane block at a time in GCC/Clang vector extensions: four (SSE2 on x86-64, NEON on
+// ARM) everywhere, eight in the exchange pass where the processor has AVX2 (chosen at run time;
+// the same IEEE operations per lane, so both widths give the same contents). The per-texel pass
+// is arithmetic on independent texels, and the stage of each (under the liquid, wet, drying) is
+// selected per lane instead of branched to.
+// (Spelt out per width: GCC drops vector_size from a type that depends on a template parameter.)
+template <std::size_t W>
+struct LaneTypes;
+template <>
+struct LaneTypes<4> {
+  using F = float __attribute__((vector_size(16)));
+  using M = std::int32_t __attribute__((vector_size(16)));
+  using B = std::uint8_t __attribute__((vector_size(4)));
+};
+template <>
+struct LaneTypes<8> {
+  using F = float __attribute__((vector_size(32)));
+  using M = std::int32_t __attribute__((vector_size(32)));
+  using B = std::uint8_t __attribute__((vector_size(8)));
+};
+using Lanes = LaneTypes<4>::F;
+using LaneMask = LaneTypes<4>::M;
+constexpr std::size_t kLaneCount = 4;
+#define HYDROTEX_LANE_INLINE inline __attribute__((always_inline))
+// The eight-lane helpers are always inlined into the AVX2 kernel, never called across an ABI
+// boundary: GCC's note that passing 32-byte vectors without AVX changes the ABI does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+template <class F = Lanes>
+HYDROTEX_LANE_INLINE F splat(float x) {
+  return F{} + x;
+}
+template <class F, class M>
+HYDROTEX_LANE_INLINE F select(M mask, F a, F b) {
+  return reinterpret_cast<F>((mask & reinterpret_cast<M>(a)) | (~mask & reinterpret_cast<M>(b)));
+}
+template <class F>
+HYDROTEX_LANE_INLINE F minimum(F a, F b) {
+  return select(a < b, a, b);
+}
+// `count` (1..lanes) values from `p`; the lanes past them are 0. A whole block is one unaligned move.
+template <class F = Lanes>
+HYDROTEX_LANE_INLINE F load(const float* p, std::size_t count) {
+  F v{};
+  if (count == sizeof(F) / sizeof(float))
     std::memcpy(&v, p, sizeof v);
   else
     for (std::size_t k = 0; k < count; ++k) v[k] = p[k];
   return v;
 }
-inline void store(float* p, std::size_t count, Lanes v) {
-  if (count == kLaneCount)
+template <class F>
+HYDROTEX_LANE_INLINE void store(float* p, std::size_t count, F v) {
+  if (count == sizeof(F) / sizeof(float))
     std::memcpy(p, &v, sizeof v);
   else
     for (std::size_t k = 0; k < count; ++k) p[k] = v[k];
 }
-using ByteLanes = std::uint8_t __attribute__((vector_size(4)));
-inline LaneMask loadMask(const std::uint8_t* p, std::size_t count) {
-  ByteLanes bytes = {0, 0, 0, 0};
+template <class M>
+HYDROTEX_LANE_INLINE M loadMask(const std::uint8_t* p, std::size_t count) {
+  typename LaneTypes<sizeof(M) / 4>::B bytes{};
   std::memcpy(&bytes, p, count);
-  return __builtin_convertvector(bytes, LaneMask) != LaneMask{0, 0, 0, 0};
+  return __builtin_convertvector(bytes, M) != M{};
 }
-inline void storeMask(std::uint8_t* p, std::size_t count, LaneMask m) {
-  const ByteLanes bytes = __builtin_convertvector(m & 1, ByteLanes);
+template <class M>
+HYDROTEX_LANE_INLINE void storeMask(std::uint8_t* p, std::size_t count, M m) {
+  const auto bytes = __builtin_convertvector(m & 1, typename LaneTypes<sizeof(M) / 4>::B);
   std::memcpy(p, &bytes, count);
 }
 // Sum of the lanes (a count of set mask lanes when fed with -mask).
-inline std::int64_t horizontalSum(LaneMask m) { return std::int64_t{m[0]} + m[1] + m[2] + m[3]; }
-// One bit per set lane (lane k: bit k).
-inline int laneBits(LaneMask m) {
-#if defined(__SSE2__)
-  return _mm_movemask_ps(reinterpret_cast<__m128>(m));
-#else
-  return (m[0] ? 1 : 0) | (m[1] ? 2 : 0) | (m[2] ? 4 : 0) | (m[3] ? 8 : 0);
-#endif
+template <class M>
+HYDROTEX_LANE_INLINE std::int64_t horizontalSum(M m) {
+  std::int64_t sum = 0;
+  for (std::size_t k = 0; k < sizeof(M) / 4; ++k) sum += m[k];
+  return sum;
 }
-inline bool any(LaneMask m) { return laneBits(m) != 0; }
-// Sum of the lanes in double.
-inline double volumeSum(Lanes v) {
-  return (static_cast<double>(v[0]) + static_cast<double>(v[1])) + (static_cast<double>(v[2]) + static_cast<double>(v[3]));
+// One bit per set lane (lane k: bit k).
+template <class M>
+HYDROTEX_LANE_INLINE int laneBits(M m) {
+#if defined(__SSE2__)
+  // Per 16-byte half (an AVX2 build of the kernel makes these VEX moves).
+  if constexpr (sizeof(M) == 16) return _mm_movemask_ps(reinterpret_cast<__m128>(m));
+  if constexpr (sizeof(M) == 32) {
+    __m128 half[2];
+    std::memcpy(half, &m, sizeof m);
+    return _mm_movemask_ps(half[0]) | _mm_movemask_ps(half[1]) << 4;
+  }
+#endif
+  int bits = 0;
+  for (std::size_t k = 0; k < sizeof(M) / 4; ++k) bits |= m[k] ? 1 << k : 0;
+  return bits;
+}
+template <class M>
+HYDROTEX_LANE_INLINE bool any(M m) {
+  return laneBits(m) != 0;
+}
+// Sum of the lanes in double, pairwise.
+template <class F>
+HYDROTEX_LANE_INLINE double volumeSum(F v) {
+  double pairs[sizeof(F) / 8];
+  for (std::size_t k = 0; k < sizeof(F) / 8; ++k) pairs[k] = static_cast<double>(v[2 * k]) + static_cast<double>(v[2 * k + 1]);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < sizeof(F) / 8; k += 2) sum += pairs[k] + pairs[k + 1];
+  return sum;
 }
 
 // exp(-x) for x >= 0 in float, the precision the contents are stored in (a NaN or negative x
 // gives 1, +inf and x > 80 give e^-80 = 2e-35: nothing left of a content in metres): x = k ln 2
 // + r with |r| <= ln 2 / 2, e^r by its Taylor series to r^6 (remainder 0.35^7 / 7! < 1.3e-8),
 // 2^-k set in the exponent bits. Several times cheaper than std::exp.
-inline Lanes expNegative(Lanes x) {
-  x = select(x > splat(0.0f), x, splat(0.0f));
-  x = minimum(x, splat(80.0f));
+template <class F>
+HYDROTEX_LANE_INLINE F expNegative(F x) {
+  using M = typename LaneTypes<sizeof(F) / 4>::M;
+  x = select(x > splat<F>(0.0f), x, splat<F>(0.0f));
+  x = minimum(x, splat<F>(80.0f));
   constexpr float kLn2 = 0.693147181f, kInvLn2 = 1.44269504f;
   // Rounded to nearest by truncation of a positive number.
-  const LaneMask k = __builtin_convertvector(x * splat(kInvLn2) + splat(0.5f), LaneMask);
-  const Lanes kf = __builtin_convertvector(k, Lanes);
-  const Lanes r = kf * splat(kLn2) - x;
-  Lanes p = splat(1.0f / 720.0f);
-  p = p * r + splat(1.0f / 120.0f);
-  p = p * r + splat(1.0f / 24.0f);
-  p = p * r + splat(1.0f / 6.0f);
-  p = p * r + splat(0.5f);
-  p = p * r + splat(1.0f);
-  p = p * r + splat(1.0f);
-  const LaneMask exponent = (LaneMask{127, 127, 127, 127} - k) << 23;
-  return p * reinterpret_cast<Lanes>(exponent);
+  const M k = __builtin_convertvector(x * splat<F>(kInvLn2) + splat<F>(0.5f), M);
+  const F kf = __builtin_convertvector(k, F);
+  const F r = kf * splat<F>(kLn2) - x;
+  F p = splat<F>(1.0f / 720.0f);
+  p = p * r + splat<F>(1.0f / 120.0f);
+  p = p * r + splat<F>(1.0f / 24.0f);
+  p = p * r + splat<F>(1.0f / 6.0f);
+  p = p * r + splat<F>(0.5f);
+  p = p * r + splat<F>(1.0f);
+  p = p * r + splat<F>(1.0f);
+  const M exponent = (M{} + 127 - k) << 23;
+  return p * reinterpret_cast<F>(exponent);
 }
 
 // 1 - e^-x in float, without the cancellation of 1 - expNegative(x) for small x (a short step
 // under water): series to x^4 below 0.03 (remainder x^5 / 120 < 7e-9 relative to x).
 // Each form is evaluated only when a lane needs it (short steps need only the series).
-inline Lanes oneMinusExpNegative(Lanes x) {
-  const LaneMask small = x < splat(0.03f);
+template <class F>
+HYDROTEX_LANE_INLINE F oneMinusExpNegative(F x) {
+  constexpr int kAll = (1 << (sizeof(F) / 4)) - 1;
+  const auto small = x < splat<F>(0.03f);
   const int smallLanes = laneBits(small);
-  Lanes series = splat(0.0f), complement = splat(0.0f);
-  if (smallLanes != 0) series = x * (splat(1.0f) - x * (splat(0.5f) - x * (splat(1.0f / 6.0f) - x * splat(1.0f / 24.0f))));
-  if (smallLanes != 0xF) complement = splat(1.0f) - expNegative(x);
+  F series{}, complement{};
+  if (smallLanes != 0)
+    series = x * (splat<F>(1.0f) - x * (splat<F>(0.5f) - x * (splat<F>(1.0f / 6.0f) - x * splat<F>(1.0f / 24.0f))));
+  if (smallLanes != kAll) complement = splat<F>(1.0f) - expNegative(x);
   return select(small, series, complement);
 }
 
@@ -446,84 +515,106 @@ Wetting::ExchangeConstants Wetting::prepareExchange(const LiquidTexture& texture
   const double rate = evaporating && dt > 0.0 ? settings_.evaporationRate() : 0.0;  // m/s, constant-rate stage
   k.evaporationDepth = static_cast<float>(rate * dt);
   k.criticalSaturation = static_cast<float>(settings_.criticalSaturation);
+  k.wide = wideExchange();
   return k;
 }
 
-template <bool Flat>
-void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, std::size_t begin, std::size_t end,
-                            ExchangeTotals& totals) {
-  // The per-texel arithmetic is in float, the precision the contents are stored in, four texels
-  // at a time (SSE2 lanes; the stage of a texel is selected, not branched to); the volumes moved
-  // are summed in double from the stored values, so the balance stays exact to float rounding.
-  const Lanes evaporationDepth = splat(k.evaporationDepth), criticalSaturation = splat(k.criticalSaturation);
-  const Lanes darcyFactor = splat(k.darcyFactor), capillary = splat(k.capillary), zero = splat(0.0f), one = splat(1.0f);
-  float* phi = texture.liquid.data();
-  float* pigment = texture.pigment.empty() ? nullptr : texture.pigment.data();
-  const float* capacity = texture.capacity.data();
-  const float* permeability = texture.permeability.data();
-  std::uint8_t* submerged = submerged_.data();
+namespace {
+
+// What the exchange pass reads and writes, as plain arrays (texel order; `pressure` only off a
+// flat surface, `pigment` null without the channel).
+template <class Source>
+struct ExchangeArrays {
+  float* phi;
+  float* pigment;
+  const float *capacity, *permeability, *area, *px, *py, *pz, *nx, *ny, *nz, *pressure;
+  std::uint8_t* submerged;
+  const Source* sources;
+  std::size_t sourceCount;
+};
+struct ExchangeSums {
+  double absorbed, evaporated;
+  std::int64_t submerged;
+};
+
+// The per-texel arithmetic of the exchange is in float, the precision the contents are stored
+// in, W texels at a time (the stage of a texel is selected, not branched to); the volumes moved
+// are summed in double from the stored values, so the balance stays exact to float rounding.
+template <bool Flat, std::size_t W, class Constants, class Source>
+HYDROTEX_LANE_INLINE ExchangeSums exchangeLanes(const Constants& k, const ExchangeArrays<Source>& in, std::size_t begin,
+                                                std::size_t end) {
+  using F = typename LaneTypes<W>::F;
+  using M = typename LaneTypes<W>::M;
+  const F evaporationDepth = splat<F>(k.evaporationDepth), criticalSaturation = splat<F>(k.criticalSaturation);
+  const F darcyFactor = splat<F>(k.darcyFactor), capillary = splat<F>(k.capillary), zero = splat<F>(0.0f), one = splat<F>(1.0f);
+  float* phi = in.phi;
+  float* pigment = in.pigment;
+  const float* capacity = in.capacity;
+  const float* permeability = in.permeability;
+  std::uint8_t* submerged = in.submerged;
   double absorbed = 0.0, evaporated = 0.0;
-  Lanes absorbedLanes = zero, evaporatedLanes = zero;  // m^3
-  LaneMask submergedLanes = {0, 0, 0, 0};
+  F absorbedLanes = zero, evaporatedLanes = zero;  // m^3
+  M submergedLanes{};
   const bool evaporating = k.evaporationDepth > 0.0f;
-  // A block of `count` texels from i; called with a constant 4 for whole blocks, so that the
+  // A block of `count` texels from i; called with a constant W for whole blocks, so that the
   // loads are single moves there, and once with the rest.
   auto block = [&](std::size_t i, std::size_t count) __attribute__((always_inline)) {
-    const Lanes held = load(phi + i, count), full = load(capacity + i, count), area = load(area_.data() + i, count);
-    const LaneMask active = area > zero;
+    const F held = load<F>(phi + i, count), full = load<F>(capacity + i, count), area = load<F>(in.area + i, count);
+    const M active = area > zero;
     // Under the liquid? (Evaporation alone: the mask of the last absorption.)
-    LaneMask under;
-    Lanes pressure = zero;
+    M under;
+    F pressure = zero;
     if (!k.withLiquid) {
-      under = k.absorbing ? LaneMask{} : loadMask(submerged + i, count);
+      under = k.absorbing ? M{} : loadMask<M>(submerged + i, count);
     } else if constexpr (Flat) {
-      const Lanes relativeHeight = splat(k.heightRow[0]) * load(px_.data() + i, count) +
-                                   splat(k.heightRow[1]) * load(py_.data() + i, count) +
-                                   splat(k.heightRow[2]) * load(pz_.data() + i, count) + splat(k.heightRow[3]);
-      pressure = splat(-k.pressurePerDepth) * relativeHeight;
+      const F relativeHeight = splat<F>(k.heightRow[0]) * load<F>(in.px + i, count) +
+                                   splat<F>(k.heightRow[1]) * load<F>(in.py + i, count) +
+                                   splat<F>(k.heightRow[2]) * load<F>(in.pz + i, count) + splat<F>(k.heightRow[3]);
+      pressure = splat<F>(-k.pressurePerDepth) * relativeHeight;
       under = pressure > zero;
     } else {
-      pressure = load(pressure_.data() + i, count);
-      under = loadMask(submerged + i, count);
+      pressure = load<F>(in.pressure + i, count);
+      under = loadMask<M>(submerged + i, count);
     }
     under &= active;
     if (k.absorbing) storeMask(submerged + i, count, under);
     submergedLanes -= under;
-    Lanes current = held;
+    F current = held;
     // Blocks wholly under the liquid or wholly in the air (most are: the waterline crosses few)
     // skip the other stage's arithmetic.
-    const LaneMask air = active & ~under;
+    const M air = active & ~under;
     const bool anyUnder = any(under), anyAir = any(air);
     // One division per block, shared by Darcy's time constant and the falling-rate stage.
-    const Lanes inverseFull = one / select(full > zero, full, one);
+    const F inverseFull = one / select(full > zero, full, one);
     if (k.absorbing && anyUnder) {
       // Darcy against the pores' back-pressure: exact exponential approach to capacity.
-      const Lanes drive = select(pressure > zero, pressure, zero) + capillary;
-      const Lanes exponent = load(permeability + i, count) * drive * darcyFactor * inverseFull;  // dt / tau
-      const Lanes darcy = minimum(full, held + (full - held) * oneMinusExpNegative(exponent));
+      const F drive = select(pressure > zero, pressure, zero) + capillary;
+      const F exponent = load<F>(permeability + i, count) * drive * darcyFactor * inverseFull;  // dt / tau
+      const F darcy = minimum(full, held + (full - held) * oneMinusExpNegative(exponent));
       current = select(under & (full > held), darcy, held);
     }
     if (k.absorbing && anyAir) {
       // In the air: the sources' supply up to capacity (the rest runs off).
-      for (const BodySource& source : bodySources_) {
-        Lanes supply;
+      for (std::size_t s = 0; s < in.sourceCount; ++s) {
+        const auto& source = in.sources[s];
+        F supply;
         if (source.rain) {
           // Rain per horizontal area lands on the texel's projection across the fall direction.
-          const Lanes facing = splat(source.up.x()) * load(nx_.data() + i, count) +
-                               splat(source.up.y()) * load(ny_.data() + i, count) +
-                               splat(source.up.z()) * load(nz_.data() + i, count);
-          supply = select(facing > zero, splat(source.depth) * facing, zero);
+          const F facing = splat<F>(source.up.x()) * load<F>(in.nx + i, count) +
+                               splat<F>(source.up.y()) * load<F>(in.ny + i, count) +
+                               splat<F>(source.up.z()) * load<F>(in.nz + i, count);
+          supply = select(facing > zero, splat<F>(source.depth) * facing, zero);
         } else {
-          const Lanes dx = load(px_.data() + i, count) - splat(source.centre.x());
-          const Lanes dy = load(py_.data() + i, count) - splat(source.centre.y());
-          const Lanes dz = load(pz_.data() + i, count) - splat(source.centre.z());
-          supply = select(dx * dx + dy * dy + dz * dz <= splat(source.radiusSquared), splat(source.depth), zero);
+          const F dx = load<F>(in.px + i, count) - splat<F>(source.centre.x());
+          const F dy = load<F>(in.py + i, count) - splat<F>(source.centre.y());
+          const F dz = load<F>(in.pz + i, count) - splat<F>(source.centre.z());
+          supply = select(dx * dx + dy * dy + dz * dz <= splat<F>(source.radiusSquared), splat<F>(source.depth), zero);
         }
-        const Lanes stored = minimum(current + supply, full);
-        const LaneMask takes = air & (stored > current);
+        const F stored = minimum(current + supply, full);
+        const M takes = air & (stored > current);
         if (pigment) {
-          const Lanes carried = (stored - current) * splat(static_cast<float>(source.pigment));
-          store(pigment + i, count, load(pigment + i, count) + select(takes, carried, zero));
+          const F carried = (stored - current) * splat<F>(static_cast<float>(source.pigment));
+          store(pigment + i, count, load<F>(pigment + i, count) + select(takes, carried, zero));
         }
         current = select(takes, stored, current);
       }
@@ -533,18 +624,18 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
       // Constant rate through the whole step while the content stays above the critical one;
       // otherwise constant rate until it reaches it (none when it starts below), then first
       // order for the rest of the step (Hall and Hoff's two stages, both integrated exactly).
-      const Lanes critical = criticalSaturation * full;
-      const Lanes constantNext = current - evaporationDepth;
-      const LaneMask hasCritical = critical > zero;
-      const Lanes inverseCritical = select(hasCritical, inverseFull * splat(1.0f / k.criticalSaturation), one);
-      const Lanes above = current - critical;
-      const Lanes fallingExponent = (evaporationDepth - select(above > zero, above, zero)) * inverseCritical;
+      const F critical = criticalSaturation * full;
+      const F constantNext = current - evaporationDepth;
+      const M hasCritical = critical > zero;
+      const F inverseCritical = select(hasCritical, inverseFull * splat<F>(1.0f / k.criticalSaturation), one);
+      const F above = current - critical;
+      const F fallingExponent = (evaporationDepth - select(above > zero, above, zero)) * inverseCritical;
       // The falling-rate stage's exponential only when a lane reaches it.
-      const LaneMask reaches = ~(constantNext >= critical) & hasCritical & active & ~under;
-      const Lanes falling = any(reaches) ? minimum(current, critical) * expNegative(fallingExponent) : splat(0.0f);
-      const Lanes constant = select(constantNext > zero, constantNext, zero);
-      const Lanes dried = select((constantNext >= critical) | ~hasCritical, constant, falling);
-      const Lanes next = select(active & ~under, dried, current);
+      const M reaches = ~(constantNext >= critical) & hasCritical & active & ~under;
+      const F falling = any(reaches) ? minimum(current, critical) * expNegative(fallingExponent) : splat<F>(0.0f);
+      const F constant = select(constantNext > zero, constantNext, zero);
+      const F dried = select((constantNext >= critical) | ~hasCritical, constant, falling);
+      const F next = select(active & ~under, dried, current);
       evaporatedLanes += (current - next) * area;
       current = next;
     }
@@ -552,11 +643,11 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
   };
   // The float lane sums go to double every 16 blocks: at most 16 float roundings (1e-6
   // relative) in any change counted.
-  constexpr std::size_t kFlush = 16 * kLaneCount;
+  constexpr std::size_t kFlush = 16 * W;
   std::size_t i = begin;
-  for (; i + kLaneCount <= end;) {
-    const std::size_t stop = std::min(end - (end - i) % kLaneCount, i + kFlush);
-    for (; i < stop; i += kLaneCount) block(i, kLaneCount);
+  for (; i + W <= end;) {
+    const std::size_t stop = std::min(end - (end - i) % W, i + kFlush);
+    for (; i < stop; i += W) block(i, W);
     absorbed += volumeSum(absorbedLanes);
     evaporated += volumeSum(evaporatedLanes);
     absorbedLanes = evaporatedLanes = zero;
@@ -564,9 +655,39 @@ void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, 
   if (i < end) block(i, end - i);
   absorbed += volumeSum(absorbedLanes);
   evaporated += volumeSum(evaporatedLanes);
-  totals.absorbed += absorbed;
-  totals.evaporated += evaporated;
-  totals.submerged += static_cast<std::size_t>(horizontalSum(submergedLanes));
+  return {absorbed, evaporated, horizontalSum(submergedLanes)};
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// Eight lanes where the processor has AVX2: the same kernel, compiled for it (no FMA, so every
+// lane rounds as the four-lane code does).
+template <bool Flat, class Constants, class Source>
+__attribute__((target("avx2"))) ExchangeSums exchangeLanesAvx2(const Constants& k, const ExchangeArrays<Source>& in,
+                                                                std::size_t begin, std::size_t end) {
+  return exchangeLanes<Flat, 8>(k, in, begin, end);
+}
+#endif
+
+
+}  // namespace
+
+template <bool Flat>
+void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, std::size_t begin, std::size_t end,
+                            ExchangeTotals& totals) {
+  const ExchangeArrays<BodySource> in{texture.liquid.data(), texture.pigment.empty() ? nullptr : texture.pigment.data(),
+                                      texture.capacity.data(), texture.permeability.data(), area_.data(), px_.data(),
+                                      py_.data(), pz_.data(), nx_.data(), ny_.data(), nz_.data(), pressure_.data(),
+                                      submerged_.data(), bodySources_.data(), bodySources_.size()};
+  ExchangeSums sums;
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (k.wide)
+    sums = exchangeLanesAvx2<Flat>(k, in, begin, end);
+  else
+#endif
+    sums = exchangeLanes<Flat, kLaneCount>(k, in, begin, end);
+  totals.absorbed += sums.absorbed;
+  totals.evaporated += sums.evaporated;
+  totals.submerged += static_cast<std::size_t>(sums.submerged);
 }
 
 void Wetting::poolGroups(LiquidTexture& texture) const {

@@ -2,7 +2,7 @@
 // and the texel graph against the paper's Liquid Density Field on accuracy (harmonic decay on a
 // sphere) and time. Prints a table and writes bench_wetting.csv (or argv[1]). Medians of 15 runs
 // of the calling thread's CPU time (the machine is shared; wall time counts other jobs' slices).
-// `bench_wetting out.csv --steps` runs the step table only; `--profile` runs ten 1024^2 plate steps
+// `bench_wetting out.csv --steps` runs the step table only; `--profile` runs 200 1024^2 plate steps
 // and nothing else (for valgrind --tool=callgrind --toggle-collect='hydrotex::Wetting::step*').
 // Built with hydrotex::gpu, it also times the GL step (GlWetting: absorb + evaporate pass, then
 // the diffusion sub-steps; download of the volumes moved included) in wall time, medians of 15,
@@ -91,7 +91,7 @@ double amplitude(const TexelAdjacency& g, const std::vector<float>& liquid) {
 int main(int argc, char** argv) {
   const std::string csvPath = argc > 1 ? argv[1] : "bench_wetting.csv";
   const std::string mode = argc > 2 ? argv[2] : "";
-  // --profile / --profile-sphere: ten 1024^2 steps of the plate / the UV sphere only, for a profiler.
+  // --profile / --profile-sphere: 200 1024^2 steps of the plate / the UV sphere only, for a profiler.
   const bool profileSphere = mode == "--profile-sphere", profile = mode == "--profile" || profileSphere, stepsOnly = mode == "--steps" || profile, gpuOnly = mode == "--gpu";
   std::ofstream csv(csvPath);
   csv << "table,case,resolution,texels,pairs,merged_texels,substeps,absorb_ms,diffuse_ms,evaporate_ms,step_ms,error\n";
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
       environment.sources = {LiquidSource{}};
       const double dt = 1.0 / 60.0;
       if (profile) {
-        for (int k = 0; k < 10; ++k) (void)wetting->step(texture, environment, dt);
+        for (int k = 0; k < 200; ++k) (void)wetting->step(texture, environment, dt);
         return 0;
       }
       std::size_t submerged = 0;

@@ -139,6 +139,7 @@ class Wetting {
     float darcyFactor = 0.0f;           // dt / (mu L)
     float evaporationDepth = 0.0f;      // constant-rate evaporation over the step (m)
     float criticalSaturation = 0.0f;
+    bool wide = false;                  // eight lanes (AVX2) instead of four
   };
   struct ExchangeTotals {
     double absorbed = 0.0, evaporated = 0.0;
