@@ -112,13 +112,6 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   if (sources.size() > static_cast<std::size_t>(kMaxSources))
     return Error{"gpu wetting: " + std::to_string(sources.size()) + " liquid sources, at most " +
                  std::to_string(kMaxSources) + " on the GPU"};
-  // The diffusion's sub-step count is checked before anything runs, so that an error leaves the
-  // resident liquid untouched.
-  const double substeps = std::ceil(dt / impl_->diffusion->stableTimeStep());
-  if (dt > 0.0 && settings_.diffusivity > 0.0 && substeps > settings_.maxExplicitSubsteps)
-    return Error{"gpu wetting: " + std::to_string(dt) + " s needs " + std::to_string(substeps) +
-                 " explicit diffusion sub-steps, more than " + std::to_string(settings_.maxExplicitSubsteps) +
-                 " (the implicit solve is CPU only)"};
   if (Status s = context_.makeCurrent(); !s) return s.error();
 
   Impl& impl = *impl_;
@@ -178,6 +171,8 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   Expected<int> diffused = impl.diffusion->diffuse(dt);
   if (!diffused) return diffused.error();
   report.diffusionSubsteps = *diffused;
+  report.implicitDiffusion = dt > 0.0 && settings_.diffusivity > 0.0 &&
+                             std::ceil(dt / impl.diffusion->stableTimeStep()) > settings_.maxExplicitSubsteps;
   impl.partials.read(0, impl.partialsHost.data(), impl.partialsHost.size() * sizeof(float));
   double submerged = 0.0;
   for (std::size_t g = 0; g < groups; ++g) {

@@ -25,7 +25,9 @@ using detail::GlProgram;
 
 struct GlWettingDiffusion::Impl {
   GlProgram program, groupProgram;
-  GlBuffer liquid[2], pigment[2], rowStart, neighbour, conductance, inverseArea, groupStart, members, area;
+  GlProgram implicitProgram, reduceProgram, implicitFluxProgram;
+  GlBuffer liquid[2], pigment[2], graph, conductance, inverseArea, groupStart, members, area;
+  GlBuffer solution, work, scalars;  // backward Euler's x, its r, z, p, Ap, and the solver's scalars (made on first use)
   int current = 0;  // which liquid (and pigment) buffer holds the state
   bool hasPairs = false, withPigment = false;
   std::size_t groupCount = 0;
@@ -86,7 +88,11 @@ Expected<std::unique_ptr<GlWettingDiffusion>> GlWettingDiffusion::create(const E
     ++rowStart[groups.pairSecond[p] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
-  std::vector<std::uint32_t> cursor(rowStart.begin(), rowStart.end() - 1), neighbour(2 * pairs);
+  // One buffer: the row starts, then the neighbours (the passes use few storage blocks).
+  std::vector<std::uint32_t> graph(rowStart);
+  graph.resize(n + 1 + 2 * pairs);
+  std::uint32_t* neighbour = graph.data() + n + 1;
+  std::vector<std::uint32_t> cursor(rowStart.begin(), rowStart.end() - 1);
   std::vector<float> conductance(2 * pairs);
   for (std::size_t p = 0; p < pairs; ++p) {
     const std::uint32_t i = groups.pairFirst[p], j = groups.pairSecond[p];
@@ -111,16 +117,27 @@ Expected<std::unique_ptr<GlWettingDiffusion>> GlWettingDiffusion::create(const E
   Expected<GlProgram> groupProgram = GlProgram::compute(
       "wetting_groups.comp", {"#version 430 core\n", embeddedShader("wetting_groups.comp")});
   if (!groupProgram) return Error{"gpu wetting diffusion: " + groupProgram.error().message};
+  Expected<GlProgram> implicitProgram = GlProgram::compute(
+      "wetting_implicit.comp", {"#version 430 core\n", embeddedShader("wetting_implicit.comp")});
+  if (!implicitProgram) return Error{"gpu wetting diffusion: " + implicitProgram.error().message};
+  Expected<GlProgram> reduceProgram = GlProgram::compute(
+      "wetting_implicit_reduce.comp", {"#version 430 core\n", embeddedShader("wetting_implicit_reduce.comp")});
+  if (!reduceProgram) return Error{"gpu wetting diffusion: " + reduceProgram.error().message};
+  Expected<GlProgram> implicitFluxProgram = GlProgram::compute(
+      "wetting_diffuse.comp (double)", {"#version 430 core\n#define real double\n", embeddedShader("wetting_diffuse.comp")});
+  if (!implicitFluxProgram) return Error{"gpu wetting diffusion: " + implicitFluxProgram.error().message};
   Impl& impl = *out->impl_;
   impl.program = std::move(program).value();
   impl.groupProgram = std::move(groupProgram).value();
+  impl.implicitProgram = std::move(implicitProgram).value();
+  impl.reduceProgram = std::move(reduceProgram).value();
+  impl.implicitFluxProgram = std::move(implicitFluxProgram).value();
   auto upload = [](const auto& items) {
     GlBuffer buffer(items.size() * sizeof(items[0]));
     buffer.write(0, items.data(), items.size() * sizeof(items[0]));
     return buffer;
   };
-  impl.rowStart = upload(rowStart);
-  impl.neighbour = upload(neighbour);
+  impl.graph = upload(graph);
   impl.conductance = upload(conductance);
   impl.inverseArea = upload(inverseArea);
   impl.area = upload(area);
@@ -160,35 +177,98 @@ Status GlWettingDiffusion::upload(const LiquidTexture& texture) {
 Expected<int> GlWettingDiffusion::diffuse(double dt) {
   if (!std::isfinite(dt)) return Error{"gpu wetting diffusion: time step " + std::to_string(dt) + " s is not finite"};
   if (!(dt > 0.0) || !impl_->hasPairs || !(diffusivity_ > 0.0)) return 0;
-  const double substeps = std::ceil(dt / stableStep_);
-  if (substeps > maxSubsteps_)
-    return Error{"gpu wetting diffusion: " + std::to_string(dt) + " s needs " + std::to_string(substeps) +
-                 " explicit sub-steps, more than " + std::to_string(maxSubsteps_) + " (the implicit solve is CPU only)"};
   if (Status s = context_.makeCurrent(); !s) return s.error();
-  const int count = std::max(1, static_cast<int>(substeps));
+  const double substeps = std::ceil(dt / stableStep_);
+  const bool implicit = substeps > maxSubsteps_;
+  const int count = implicit ? 1 : std::max(1, static_cast<int>(substeps));
   Impl& impl = *impl_;
   impl.groups(false);
-  glUseProgram(impl.program.id());
-  impl.rowStart.bind(2);
-  impl.neighbour.bind(3);
-  impl.conductance.bind(4);
-  impl.inverseArea.bind(5);
-  glUniform1ui(impl.program.uniform("texelCount"), static_cast<GLuint>(texelCount_));
-  glUniform1f(impl.program.uniform("step"), static_cast<float>(dt / count));
-  glUniform1i(impl.program.uniform("withPigment"), impl.withPigment ? 1 : 0);
+  // Backward Euler's solution is the potential of one flux pass; an explicit sub-step's is the
+  // liquid itself.
+  if (implicit) solveImplicit(dt);
+  const GlProgram& program = implicit ? impl.implicitFluxProgram : impl.program;
+  glUseProgram(program.id());
+  impl.graph.bind(2);
+  impl.conductance.bind(3);
+  impl.inverseArea.bind(4);
+  glUniform1ui(program.uniform("texelCount"), static_cast<GLuint>(texelCount_));
+  glUniform1f(program.uniform("step"), static_cast<float>(dt / count));
+  glUniform1i(program.uniform("withPigment"), impl.withPigment ? 1 : 0);
   for (int k = 0; k < count; ++k) {
     impl.liquid[impl.current].bind(0);
     impl.liquid[1 - impl.current].bind(1);
     // Without pigment the pigment bindings are never read; the liquid's stand in for them.
-    (impl.withPigment ? impl.pigment[impl.current] : impl.liquid[impl.current]).bind(6);
-    (impl.withPigment ? impl.pigment[1 - impl.current] : impl.liquid[1 - impl.current]).bind(7);
+    (impl.withPigment ? impl.pigment[impl.current] : impl.liquid[impl.current]).bind(5);
+    (impl.withPigment ? impl.pigment[1 - impl.current] : impl.liquid[1 - impl.current]).bind(6);
+    (implicit ? impl.solution : impl.liquid[impl.current]).bind(7);
     Impl::dispatch(texelCount_);
     impl.current = 1 - impl.current;
   }
   impl.groups(true);
   if (const GLenum error = glGetError(); error != GL_NO_ERROR)
     return Error{"gpu wetting diffusion: OpenGL error " + std::to_string(error)};
-  return count;
+  return implicit ? 0 : count;
+}
+
+void GlWettingDiffusion::solveImplicit(double dt) {
+  // Preconditioned conjugate gradients in double, the scalars kept on the GPU
+  // (wetting_implicit.comp and wetting_implicit_reduce.comp); the host reads the residual every
+  // 16 iterations and stops at r.z / r0.z = 1e-20, the CPU's relative residual of 1e-10.
+  Impl& impl = *impl_;
+  const std::size_t n = texelCount_;
+  const auto workGroups = static_cast<GLuint>((n + 63) / 64);
+  const GLuint x = std::min<GLuint>(std::max<GLuint>(workGroups, 1u), 65535u);
+  const GLuint partials = x * ((workGroups + x - 1) / x);  // one per dispatched work group
+  constexpr std::size_t kScalars = 8;
+  if (impl.solution.bytes() != n * sizeof(double)) {
+    impl.solution = GlBuffer(n * sizeof(double));
+    impl.work = GlBuffer(4 * n * sizeof(double));
+    impl.scalars = GlBuffer((kScalars + partials) * sizeof(double));
+  }
+  enum : GLuint { kStart = 0, kApply = 1, kUpdate = 2, kDirection = 3 };
+  auto pass = [&](GLuint mode) {
+    glUseProgram(impl.implicitProgram.id());
+    glUniform1ui(impl.implicitProgram.uniform("mode"), mode);
+    Impl::dispatch(n);
+  };
+  auto reduce = [&](GLuint mode) {
+    glUseProgram(impl.reduceProgram.id());
+    glUniform1ui(impl.reduceProgram.uniform("mode"), mode);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  };
+  impl.liquid[impl.current].bind(0);
+  impl.solution.bind(1);
+  impl.graph.bind(2);
+  impl.conductance.bind(3);
+  impl.inverseArea.bind(4);
+  impl.work.bind(5);
+  impl.scalars.bind(6);
+  glUseProgram(impl.implicitProgram.id());
+  glUniform1ui(impl.implicitProgram.uniform("texelCount"), static_cast<GLuint>(n));
+  glUniform1f(impl.implicitProgram.uniform("dt"), static_cast<float>(dt));
+  glUseProgram(impl.reduceProgram.id());
+  glUniform1ui(impl.reduceProgram.uniform("partialCount"), partials);
+  pass(kStart);
+  reduce(0);
+  double scalars[5];
+  impl.scalars.read(0, scalars, sizeof scalars);
+  const double start = scalars[4];
+  if (!(start > 0.0)) return;  // already the solution (a uniform liquid)
+  // Jacobi-preconditioned CG on this Laplacian needs about the square root of its condition
+  // number, at most a few thousand iterations at 1024^2; the bound only stops a stagnating solve.
+  const int most = 100 + static_cast<int>(10.0 * std::sqrt(static_cast<double>(n)));
+  for (int iteration = 1; iteration <= most; ++iteration) {
+    pass(kApply);
+    reduce(1);
+    pass(kUpdate);
+    reduce(2);
+    if (iteration % 16 == 0) {
+      impl.scalars.read(0, scalars, sizeof scalars);
+      if (!(scalars[0] > 1e-20 * start)) break;
+    }
+    pass(kDirection);
+  }
 }
 
 void GlWettingDiffusion::bindLiquid(unsigned binding) const { impl_->liquid[impl_->current].bind(binding); }

@@ -6,9 +6,9 @@
 /// the diffusion sub-steps of GlWettingDiffusion. The liquid stays on the GPU between steps; the
 /// volumes moved come back per work group and are summed in double, so the balance
 /// absorbed = held + evaporated holds to float rounding as on the CPU. The pigment channel and
-/// merged stiff texels are carried as on the CPU. Limits (each an Error, never a crash): flat
-/// liquid surfaces or none (a wavy surface's pressure is the CPU's), up to kMaxSources sources,
-/// explicit diffusion only (a step that needs more than maxExplicitSubsteps sub-steps).
+/// merged stiff texels are carried as on the CPU, and so is the implicit (backward Euler)
+/// diffusion of long steps. Limits (each an Error, never a crash): flat liquid surfaces or none
+/// (a wavy surface's pressure is the CPU's), up to kMaxSources sources.
 
 #include <memory>
 
@@ -42,8 +42,7 @@ class GlWetting {
   Status upload(const LiquidTexture& texture);
   /// One step of `dt` seconds, as Wetting::step: absorption, sources and evaporation, then
   /// diffusion. The report's volumes are m^3. Errors (nothing done): those of Wetting::step, a
-  /// liquid surface that is not flat, more than kMaxSources sources, nothing uploaded, a step
-  /// that needs the implicit diffusion.
+  /// liquid surface that is not flat, more than kMaxSources sources, nothing uploaded.
   Expected<WettingStepReport> step(const WettingEnvironment& environment, double dt);
   /// Copies the resident liquid (m per texel) and pigment back into `texture`. Error on a size
   /// mismatch or a pigment channel that differs from the uploaded texture's.

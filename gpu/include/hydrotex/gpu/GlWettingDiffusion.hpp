@@ -5,8 +5,8 @@
 /// same merged groups of stiff texels (mergeStiffTexels) and the pigment channel carried upwind.
 /// The graph is uploaded once; the liquid stays on the GPU between steps (upload / download when
 /// the host needs it). GlWetting adds the absorption, sources and evaporation pass for a whole
-/// step. Not on the GPU: the implicit fallback (a step that needs more than maxExplicitSubsteps
-/// answers an Error; the CPU's Wetting solves it).
+/// step. A step that needs more than maxExplicitSubsteps explicit sub-steps is solved by backward
+/// Euler, as on the CPU, with conjugate gradients on the GPU (float vectors, double scalars).
 
 #include <memory>
 
@@ -35,10 +35,10 @@ class GlWettingDiffusion {
   /// Copies the liquid (m per texel), and the pigment channel when the texture has one, to the
   /// GPU. Error when a size is not the texel count.
   Status upload(const LiquidTexture& texture);
-  /// Diffuses the resident liquid for `dt` seconds in ceil(dt / stableTimeStep()) explicit
-  /// sub-steps, as Wetting::diffuse; returns the sub-steps (0 for dt <= 0 or no pairs). Error,
-  /// with nothing done, when more than maxExplicitSubsteps are needed (the CPU then solves
-  /// implicitly) or dt is not finite.
+  /// Diffuses the resident liquid for `dt` seconds as Wetting::diffuse: in ceil(dt /
+  /// stableTimeStep()) explicit sub-steps, or by backward Euler when that is more than
+  /// maxExplicitSubsteps; returns the sub-steps (0 for the implicit step, dt <= 0 or no pairs).
+  /// Error, with nothing done, when dt is not finite.
   Expected<int> diffuse(double dt);
   /// Copies the resident liquid (and pigment) back into `texture` (waits for the GPU). Error on a
   /// size mismatch or a texture whose pigment channel differs from the uploaded one's.
@@ -58,6 +58,7 @@ class GlWettingDiffusion {
  private:
   struct Impl;
   explicit GlWettingDiffusion(const EglContext& context);
+  void solveImplicit(double dt);
   const EglContext& context_;
   std::unique_ptr<Impl> impl_;
   std::size_t texelCount_ = 0;
