@@ -340,6 +340,26 @@ void Wetting::buildDiffusionGroups() {
   stableStep_ = groups_.stableTimeStep(settings_.diffusivity);
 }
 
+void liquidPressureAtTexels(const LiquidSurface& liquid, const WettingEnvironment& environment, const float* x,
+                            const float* y, const float* z, std::size_t count, float* pressure, std::uint8_t* under) {
+  const Eigen::Matrix3d& rotation = environment.pose.rotation;
+  const Eigen::Vector3d& translation = environment.pose.translation;
+  const bool freeSurface = liquid.hasFreeSurface();
+  // Texels above the highest crest are in the air without asking the surface.
+  const double highest = freeSurface ? liquid.heightRange(environment.time).second : std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d world = rotation * Eigen::Vector3d(x[i], y[i], z[i]) + translation;
+    double p = 0.0;
+    bool below = false;
+    if (world.y() <= highest) {
+      p = liquid.pressure(world, environment.time, environment.gravity);
+      below = !freeSurface || p > 0.0;
+    }
+    pressure[i] = static_cast<float>(std::max(p, 0.0));
+    under[i] = below ? 1 : 0;
+  }
+}
+
 Status checkWettingStep(const WettingEnvironment& environment, double dt) {
   if (!(dt >= 0.0 && std::isfinite(dt))) return Error{"wetting: time step " + std::to_string(dt) + " s is not finite and >= 0"};
   if (!environment.pose.isFinite()) return Error{"wetting: body pose is not finite"};
@@ -483,22 +503,8 @@ Wetting::ExchangeConstants Wetting::prepareExchange(const LiquidTexture& texture
 
   // Any other surface than a flat one: its pressure and the submerged mask per texel first, in
   // the scalar pass its virtual call needs; the lane pass then reads them.
-  if constexpr (!Flat) {
-    const double highest = liquid->hasFreeSurface() ? liquid->heightRange(environment.time).second
-                                                    : std::numeric_limits<double>::infinity();
-    const bool freeSurface = liquid->hasFreeSurface();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d world = rotation * Eigen::Vector3d(px_[i], py_[i], pz_[i]) + translation;
-      double pressure = 0.0;
-      bool under = false;
-      if (world.y() <= highest) {
-        pressure = liquid->pressure(world, environment.time, environment.gravity);
-        under = !freeSurface || pressure > 0.0;
-      }
-      pressure_[i] = static_cast<float>(std::max(pressure, 0.0));
-      submerged_[i] = under ? 1 : 0;
-    }
-  }
+  if constexpr (!Flat)
+    liquidPressureAtTexels(*liquid, environment, px_.data(), py_.data(), pz_.data(), n, pressure_.data(), submerged_.data());
 
   ExchangeConstants k;
   k.absorbing = absorbing;

@@ -1,7 +1,9 @@
 // Absorption, sources and evaporation of the liquid texture, one texel per invocation: core's
 // Wetting::exchangeRange (core/src/Wetting.cpp) with the same float equations.
-//  - Under a flat liquid surface (pressure rho g depth): Darcy's law against the pores'
-//    back-pressure (paper eq. 9), S -> capacity exactly exponentially, tau = mu L C / (k P).
+//  - Under a flat liquid surface (pressure rho g depth), or under any other surface with the
+//    pressure the host evaluated per texel (core's liquidPressureAtTexels): Darcy's law against
+//    the pores' back-pressure (paper eq. 9), S -> capacity exactly exponentially,
+//    tau = mu L C / (k P).
 //  - In the air: the sources' supply up to capacity (rain on the texel's projection across the
 //    fall, spheres inside their radius) with its pigment, then Hall and Hoff's evaporation (paper eq. 10):
 //    constant rate down to the critical content, then first order, both integrated exactly.
@@ -10,8 +12,8 @@
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) buffer Liquid { float liquid[]; };                   // m
-layout(std430, binding = 1) readonly buffer Capacity { float capacity[]; };      // m
-layout(std430, binding = 2) readonly buffer Permeability { float permeability[]; };  // m^2
+layout(std430, binding = 1) readonly buffer Material { vec2 material[]; };       // per texel: capacity (m), permeability (m^2)
+layout(std430, binding = 2) readonly buffer Pressure { float texelPressure[]; };  // hostPressure mode: Pa under the liquid, -1 in the air
 layout(std430, binding = 3) readonly buffer Area { float area[]; };              // m^2
 layout(std430, binding = 4) readonly buffer Geometry { float geometry[]; };      // per texel: centroid x, y, z (m, body), unit normal x, y, z
 layout(std430, binding = 5) buffer Pigment { float pigment[]; };                 // m of pigment (read only withPigment)
@@ -21,7 +23,8 @@ layout(std430, binding = 7) writeonly buffer Partials { float partials[]; };    
 const int kMaxSources = 8;
 uniform uint texelCount;
 uniform bool absorbing;         // false: evaporation alone, under the last absorption's mask
-uniform bool withLiquid;        // a flat liquid surface is present
+uniform bool withLiquid;        // a liquid surface is present
+uniform bool hostPressure;      // its pressure per texel is in Pressure (not flat); else flat: heightRow
 uniform vec4 heightRow;         // second row of the pose; w: translation y - surface height (m)
 uniform float pressurePerDepth; // rho g (Pa/m)
 uniform float capillary;        // Pa
@@ -67,11 +70,14 @@ void main() {
   uint i = group * 64u + local;
   float absorbedVolume = 0.0, evaporatedVolume = 0.0, isUnder = 0.0;
   if (i < texelCount && area[i] > 0.0) {
-    float held = liquid[i], full = capacity[i], a = area[i];
+    float held = liquid[i], full = material[i].x, a = area[i];
     vec3 p = vec3(geometry[6u * i], geometry[6u * i + 1u], geometry[6u * i + 2u]);
     bool under = false;
     float pressure = 0.0;
-    if (withLiquid) {
+    if (withLiquid && hostPressure) {
+      pressure = max(texelPressure[i], 0.0);
+      under = texelPressure[i] >= 0.0;
+    } else if (withLiquid) {
       pressure = -pressurePerDepth * (dot(heightRow.xyz, p) + heightRow.w);
       under = pressure > 0.0;
     } else if (!absorbing) {
@@ -83,7 +89,7 @@ void main() {
     if (under) {
       isUnder = 1.0;
       if (absorbing && full > held) {
-        float exponent = permeability[i] * (pressure + capillary) * darcyFactor * inverseFull;  // dt / tau
+        float exponent = material[i].y * (pressure + capillary) * darcyFactor * inverseFull;  // dt / tau
         current = min(full, held + (full - held) * oneMinusExpNegative(exponent));
       }
     } else {

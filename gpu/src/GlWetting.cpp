@@ -27,8 +27,12 @@ constexpr std::size_t kGroupSize = 64;  // wetting_exchange.comp's local_size_x
 struct GlWetting::Impl {
   std::unique_ptr<GlWettingDiffusion> diffusion;
   GlProgram program;
-  GlBuffer capacity, permeability, area, geometry, submerged, partials;
+  GlBuffer material, pressure, area, geometry, submerged, partials;
   std::vector<float> partialsHost;  // per work group: absorbed, evaporated (m^3), submerged texels
+  // Under a surface that is not flat the host evaluates the pressure per texel, as the CPU does:
+  // the centroids as Wetting keeps them, one array per coordinate, and scratch for the pass.
+  std::vector<float> px, py, pz, pressureHost;
+  std::vector<std::uint8_t> underHost;
 };
 
 GlWetting::GlWetting(const EglContext& context) : context_(context), impl_(std::make_unique<Impl>()) {}
@@ -72,8 +76,16 @@ Expected<std::unique_ptr<GlWetting>> GlWetting::create(const EglContext& context
   };
   impl.area = upload(area);
   impl.geometry = upload(geometry);
-  impl.capacity = GlBuffer(n * sizeof(float));
-  impl.permeability = GlBuffer(n * sizeof(float));
+  impl.px.resize(n);
+  impl.py.resize(n);
+  impl.pz.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    impl.px[i] = geometry[6 * i];
+    impl.py[i] = geometry[6 * i + 1];
+    impl.pz[i] = geometry[6 * i + 2];
+  }
+  impl.material = GlBuffer(2 * n * sizeof(float));
+  impl.pressure = GlBuffer(n * sizeof(float));
   impl.submerged = GlBuffer(n * sizeof(std::uint32_t));
   const std::vector<std::uint32_t> dry(n, 0u);
   impl.submerged.write(0, dry.data(), n * sizeof(std::uint32_t));
@@ -93,8 +105,13 @@ Status GlWetting::upload(const LiquidTexture& texture) {
   if (!(texture.layerThickness > 0.0 && std::isfinite(texture.layerThickness)))
     return Error{"gpu wetting: layer thickness " + std::to_string(texture.layerThickness) + " m is not positive"};
   if (Status s = impl_->diffusion->upload(texture); !s) return s;
-  impl_->capacity.write(0, texture.capacity.data(), n * sizeof(float));
-  impl_->permeability.write(0, texture.permeability.data(), n * sizeof(float));
+  // Capacity and permeability side by side (the pass uses eight storage blocks, GL 4.3's minimum).
+  std::vector<float> material(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    material[2 * i] = texture.capacity[i];
+    material[2 * i + 1] = texture.permeability[i];
+  }
+  impl_->material.write(0, material.data(), material.size() * sizeof(float));
   layerThickness_ = texture.layerThickness;
   uploaded_ = true;
   return Ok{};
@@ -104,8 +121,6 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   if (Status s = checkWettingStep(environment, dt); !s) return s.error();
   if (!uploaded_) return Error{"gpu wetting: no liquid texture uploaded"};
   const auto* flat = dynamic_cast<const FlatSurface*>(environment.liquid);
-  if (environment.liquid && !flat)
-    return Error{"gpu wetting: only flat liquid surfaces are on the GPU; step this body on the CPU"};
   std::vector<const LiquidSource*> sources;
   for (const LiquidSource& source : environment.sources)
     if (source.rate > 0.0) sources.push_back(&source);
@@ -115,13 +130,26 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   if (Status s = context_.makeCurrent(); !s) return s.error();
 
   Impl& impl = *impl_;
+  const bool hostPressure = environment.liquid && !flat;
+  if (hostPressure) {
+    // Waves, a height grid or a medium: the CPU's per-texel pass, uploaded as the pressure under
+    // the liquid and -1 in the air.
+    const std::size_t n = texelCount_;
+    impl.pressureHost.resize(n);
+    impl.underHost.resize(n);
+    liquidPressureAtTexels(*environment.liquid, environment, impl.px.data(), impl.py.data(), impl.pz.data(), n,
+                           impl.pressureHost.data(), impl.underHost.data());
+    for (std::size_t i = 0; i < n; ++i)
+      if (!impl.underHost[i]) impl.pressureHost[i] = -1.0f;
+    impl.pressure.write(0, impl.pressureHost.data(), n * sizeof(float));
+  }
   const Eigen::Matrix3d& rotation = environment.pose.rotation;
   const Eigen::Vector3d& translation = environment.pose.translation;
   const GLuint id = impl.program.id();
   glUseProgram(id);
   impl.diffusion->bindLiquid(0);
-  impl.capacity.bind(1);
-  impl.permeability.bind(2);
+  impl.material.bind(1);
+  impl.pressure.bind(2);
   impl.area.bind(3);
   impl.geometry.bind(4);
   const bool withPigment = impl.diffusion->bindPigment(5);
@@ -129,7 +157,8 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   impl.partials.bind(7);
   glUniform1ui(impl.program.uniform("texelCount"), static_cast<GLuint>(texelCount_));
   glUniform1i(impl.program.uniform("absorbing"), 1);
-  glUniform1i(impl.program.uniform("withLiquid"), flat ? 1 : 0);
+  glUniform1i(impl.program.uniform("withLiquid"), environment.liquid ? 1 : 0);
+  glUniform1i(impl.program.uniform("hostPressure"), hostPressure ? 1 : 0);
   glUniform4f(impl.program.uniform("heightRow"), static_cast<float>(rotation(1, 0)), static_cast<float>(rotation(1, 1)),
               static_cast<float>(rotation(1, 2)), static_cast<float>(translation.y() - (flat ? flat->height() : 0.0)));
   glUniform1f(impl.program.uniform("pressurePerDepth"), flat ? static_cast<float>(flat->density() * environment.gravity) : 0.0f);

@@ -241,8 +241,13 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   // A third under water (pressure up to 6 kPa: Darcy's tau is about 1 s), rain on the part in the
   // air and a hose on its side.
   FlatSurface water(-0.15);
+  // Waves across the sphere (0.1 m crests, 1.5 m long): the host evaluates their pressure per
+  // texel for the GPU as the CPU does for itself.
+  GerstnerWaves waves({GerstnerWave{0.1, 1.5, Eigen::Vector2d(1.0, 0.3), 0.4, 0.5}}, -0.15);
+  const bool wavy = GENERATE(false, true);
+  CAPTURE(wavy);
   WettingEnvironment environment;
-  environment.liquid = &water;
+  environment.liquid = wavy ? static_cast<const LiquidSurface*>(&waves) : &water;
   environment.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(20.0, 0.0, 0.0), Eigen::Vector3d::Zero());
   LiquidSource rain;
   rain.rate = 2e-5;
@@ -306,7 +311,7 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   }
 }
 
-TEST_CASE("GL wetting refuses what is CPU only, with errors, and takes long steps", "[gpu][wetting]") {
+TEST_CASE("GL wetting refuses what it cannot do, with errors, and takes long steps and a medium", "[gpu][wetting]") {
   Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
   if (!context) {
     WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
@@ -322,7 +327,9 @@ TEST_CASE("GL wetting refuses what is CPU only, with errors, and takes long step
   REQUIRE((*gl)->upload(*texture).ok());
   UniformMedium medium(1000.0);
   environment.liquid = &medium;
-  CHECK_FALSE((*gl)->step(environment, 0.01).ok());  // not a flat surface
+  const Expected<WettingStepReport> inMedium = (*gl)->step(environment, 0.01);  // no free surface: all under
+  REQUIRE(inMedium.ok());
+  CHECK(inMedium->submergedTexels > 0);
   environment.liquid = nullptr;
   environment.sources.assign(gpu::GlWetting::kMaxSources + 1, LiquidSource{});
   CHECK_FALSE((*gl)->step(environment, 0.01).ok());

@@ -84,6 +84,13 @@ struct WettingStepReport {
 /// and radius and a pigment in 0..1. One-line error naming the value at fault.
 Status checkWettingStep(const WettingEnvironment& environment, double dt);
 
+/// The liquid's pressure (Pa, 0 in the air) at `count` texel centroids (m, body frame, one array
+/// per coordinate) and whether each is under the liquid (1) or not (0): the per-texel pass a
+/// step runs under any surface that is not flat (waves, a height grid, a medium), shared by the
+/// CPU and the GPU backends so that both decide the waterline alike.
+void liquidPressureAtTexels(const LiquidSurface& liquid, const WettingEnvironment& environment, const float* x,
+                            const float* y, const float* z, std::size_t count, float* pressure, std::uint8_t* under);
+
 /// Runs the liquid texture of one body. Holds the texel graph and the cached solver; per-step state
 /// is the LiquidTexture the caller owns.
 class Wetting {

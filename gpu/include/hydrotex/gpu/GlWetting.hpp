@@ -1,14 +1,16 @@
 #pragma once
 /// @file GlWetting.hpp
 /// A whole liquid texture step of core's Wetting on the GPU: absorption by Darcy's law (paper
-/// eq. 9) under a flat liquid surface, rain and sphere sources, evaporation after Hall and Hoff
+/// eq. 9) under the liquid, rain and sphere sources, evaporation after Hall and Hoff
 /// (paper eq. 10) in one pass (wetting_exchange.comp, the float equations of Wetting.cpp), then
 /// the diffusion sub-steps of GlWettingDiffusion. The liquid stays on the GPU between steps; the
 /// volumes moved come back per work group and are summed in double, so the balance
 /// absorbed = held + evaporated holds to float rounding as on the CPU. The pigment channel and
 /// merged stiff texels are carried as on the CPU, and so is the implicit (backward Euler)
-/// diffusion of long steps. Limits (each an Error, never a crash): flat liquid surfaces or none
-/// (a wavy surface's pressure is the CPU's), up to kMaxSources sources.
+/// diffusion of long steps. Under a flat surface the pressure is formed on the GPU; under any
+/// other (waves, a height grid, a medium) the host evaluates it per texel with the CPU's
+/// liquidPressureAtTexels and uploads it (a float per texel per step). Limit (an Error, never a
+/// crash): up to kMaxSources sources.
 
 #include <memory>
 
@@ -41,8 +43,8 @@ class GlWetting {
   /// the texel count, a layer thickness that is not positive.
   Status upload(const LiquidTexture& texture);
   /// One step of `dt` seconds, as Wetting::step: absorption, sources and evaporation, then
-  /// diffusion. The report's volumes are m^3. Errors (nothing done): those of Wetting::step, a
-  /// liquid surface that is not flat, more than kMaxSources sources, nothing uploaded.
+  /// diffusion. The report's volumes are m^3. Errors (nothing done): those of Wetting::step,
+  /// more than kMaxSources sources, nothing uploaded.
   Expected<WettingStepReport> step(const WettingEnvironment& environment, double dt);
   /// Copies the resident liquid (m per texel) and pigment back into `texture`. Error on a size
   /// mismatch or a pigment channel that differs from the uploaded texture's.
