@@ -38,6 +38,22 @@ Graph sphereGraph(int resolution) {
 
 double held(const LiquidTexture& t, const std::vector<double>& area) { return t.heldVolume(area); }
 
+// The pigment channels of a CPU and a GPU run from the same start: totals (m^3) and the largest
+// per-texel difference (m).
+struct PigmentComparison {
+  double before = 0.0, cpu = 0.0, gpu = 0.0, worst = 0.0;
+};
+PigmentComparison comparePigment(const LiquidTexture& start, const LiquidTexture& onCpu, const LiquidTexture& onGpu,
+                                 const std::vector<double>& area) {
+  PigmentComparison c;
+  c.before = start.heldPigment(area);
+  c.cpu = onCpu.heldPigment(area);
+  c.gpu = onGpu.heldPigment(area);
+  for (std::size_t i = 0; i < onGpu.size(); ++i)
+    c.worst = std::max(c.worst, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liquid", "[gpu][wetting]") {
@@ -101,16 +117,10 @@ TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liqui
   CHECK(std::abs(held(onCpu, graph.adjacency.area) - before) <= 1e-6 * before);
   if (withPigment) {
     // The pigment: the same tolerances (its fluxes are the liquid's times a concentration <= 1).
-    double pigmentBefore = 0.0, pigmentGpu = 0.0, pigmentCpu = 0.0, worstPigment = 0.0;
-    for (std::size_t i = 0; i < onGpu.size(); ++i) {
-      pigmentBefore += double(texture->pigment[i]) * graph.adjacency.area[i];
-      pigmentGpu += double(onGpu.pigment[i]) * graph.adjacency.area[i];
-      pigmentCpu += double(onCpu.pigment[i]) * graph.adjacency.area[i];
-      worstPigment = std::max(worstPigment, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
-    }
-    CHECK(worstPigment <= 1e-5 * capacity);
-    CHECK(std::abs(pigmentGpu - pigmentBefore) <= 1e-6 * pigmentBefore);
-    CHECK(std::abs(pigmentCpu - pigmentBefore) <= 1e-6 * pigmentBefore);
+    const PigmentComparison pigment = comparePigment(*texture, onCpu, onGpu, graph.adjacency.area);
+    CHECK(pigment.worst <= 1e-5 * capacity);
+    CHECK(std::abs(pigment.gpu - pigment.before) <= 1e-6 * pigment.before);
+    CHECK(std::abs(pigment.cpu - pigment.before) <= 1e-6 * pigment.before);
   }
 }
 
@@ -166,17 +176,12 @@ TEST_CASE("GL wetting's implicit diffusion matches Wetting's backward Euler and 
   // Volume: the pair fluxes are antisymmetric whatever the residual: 1e-6 as the explicit path.
   CHECK(std::abs(held(onGpu, area) - before) <= 1e-6 * before);
   if (withPigment) {
-    double pigmentBefore = 0.0, pigmentGpu = 0.0, worstPigment = 0.0;
-    for (std::size_t i = 0; i < onGpu.size(); ++i) {
-      pigmentBefore += double(texture->pigment[i]) * area[i];
-      pigmentGpu += double(onGpu.pigment[i]) * area[i];
-      worstPigment = std::max(worstPigment, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
-    }
+    const PigmentComparison pigment = comparePigment(*texture, onCpu, onGpu, area);
     // The pigment moves at the concentration upwind of each flux. At a million stable steps the
     // liquid is level and a pair's flux is dt D g times a difference of two nearly equal
     // solutions, whose sign the solvers' last bits decide: there 1e-4 (measured 2.4e-5).
-    CHECK(worstPigment <= (stableSteps > 100.0 ? 1e-4 : 1e-6) * capacity);
-    CHECK(std::abs(pigmentGpu - pigmentBefore) <= 1e-6 * pigmentBefore);
+    CHECK(pigment.worst <= (stableSteps > 100.0 ? 1e-4 : 1e-6) * capacity);
+    CHECK(std::abs(pigment.gpu - pigment.before) <= 1e-6 * pigment.before);
   }
 }
 
@@ -298,16 +303,10 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   if (withPigment) {
     // The hose's pigment came in and spread as on the CPU: per texel within the liquid's
     // tolerance, totals to 1e-6 (float sums of the same additions in another order).
-    double pigmentGpu = 0.0, pigmentCpu = 0.0, pigment0 = 0.0, worstPigment = 0.0;
-    for (std::size_t i = 0; i < onGpu.size(); ++i) {
-      pigment0 += double(texture->pigment[i]) * area[i];
-      pigmentGpu += double(onGpu.pigment[i]) * area[i];
-      pigmentCpu += double(onCpu.pigment[i]) * area[i];
-      worstPigment = std::max(worstPigment, double(std::abs(onGpu.pigment[i] - onCpu.pigment[i])));
-    }
-    REQUIRE(pigmentCpu > 1.01 * pigment0);  // the hose brought pigment: the check below is not void
-    CHECK(worstPigment <= 1e-5 * texture->capacity[0]);
-    CHECK(pigmentGpu == Approx(pigmentCpu).epsilon(1e-6));
+    const PigmentComparison pigment = comparePigment(*texture, onCpu, onGpu, area);
+    REQUIRE(pigment.cpu > 1.01 * pigment.before);  // the hose brought pigment: the checks below are not void
+    CHECK(pigment.worst <= 1e-5 * texture->capacity[0]);
+    CHECK(pigment.gpu == Approx(pigment.cpu).epsilon(1e-6));
   }
 }
 
