@@ -48,9 +48,9 @@ double saturationVapourPressure(double kelvin) {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// Whether the exchange runs eight lanes: the processor has AVX2 and HYDROTEX_DISABLE_AVX2 is not
+// Whether the exchange and the sweep run eight lanes: the processor has AVX2 and HYDROTEX_DISABLE_AVX2 is not
 // set (read once per step, so that a test can compare both widths in one process).
-bool wideExchange() {
+bool wideLanes() {
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool hasAvx2 = __builtin_cpu_supports("avx2");
   return hasAvx2 && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
@@ -60,8 +60,8 @@ bool wideExchange() {
 }
 
 // Texels a lane block at a time in GCC/Clang vector extensions: four (SSE2 on x86-64, NEON on
-// ARM) everywhere, eight in the exchange pass where the processor has AVX2 (chosen at run time;
-// the same IEEE operations per lane, so both widths give the same contents). The per-texel pass
+// ARM) everywhere, eight in the exchange pass and the diffusion sweep where the processor has
+// AVX2 (chosen at run time; the same IEEE operations per lane, without fused multiply-adds). The per-texel pass
 // is arithmetic on independent texels, and the stage of each (under the liquid, wet, drying) is
 // selected per lane instead of branched to.
 // (Spelt out per width: GCC drops vector_size from a type that depends on a template parameter.)
@@ -332,8 +332,8 @@ void Wetting::buildDiffusionGroups() {
       extraConductance_.push_back(c);
     }
   }
-  // At least one block of lanes, so that a block's four entries are contiguous in the ring.
-  std::size_t ringSize = kLaneCount;
+  // At least one block of eight lanes, so that a block's entries are contiguous in the ring.
+  std::size_t ringSize = 8;
   while (ringSize <= reach) ringSize *= 2;
   ring_.assign(ringSize, 0.0f);
   pigmentRing_.assign(ringSize, 0.0f);
@@ -521,7 +521,7 @@ Wetting::ExchangeConstants Wetting::prepareExchange(const LiquidTexture& texture
   const double rate = evaporating && dt > 0.0 ? settings_.evaporationRate() : 0.0;  // m/s, constant-rate stage
   k.evaporationDepth = static_cast<float>(rate * dt);
   k.criticalSaturation = static_cast<float>(settings_.criticalSaturation);
-  k.wide = wideExchange();
+  k.wide = wideLanes();
   return k;
 }
 
@@ -684,8 +684,81 @@ __attribute__((target("avx2"))) ExchangeSums exchangeLanesAvx2(const Constants& 
 }
 #endif
 
+// What the explicit sweep's lane blocks read and write (Wetting::sweep explains the ring).
+struct SweepBlockArrays {
+  const float *next, *other;
+  const std::uint32_t* offset;
+  const float* inverseArea;
+  float* phi;
+  float* ring;
+  std::size_t mask;
+  const std::uint32_t *extraFirst, *extraSecond;
+  const float* extraConductance;
+  std::size_t extras;
+};
+
+// W texels at a time from `i` while the next block exists (below `end`): their fluxes to the
+// next texel from one shifted load, to the other pair's texel from one load when all W share
+// the offset (inside a chart: the texel one row below) or a gather (chart borders); the ring is
+// read after the block has sent its own (a pair inside the block lands there). Returns where the
+// scalar code goes on.
+template <std::size_t W>
+HYDROTEX_LANE_INLINE std::size_t sweepBlocks(const SweepBlockArrays& a, float step, std::size_t i, std::size_t end,
+                                             std::size_t& extra, float& carried) {
+  using F = typename LaneTypes<W>::F;
+  using M = typename LaneTypes<W>::M;
+  constexpr int kAll = (1 << W) - 1;
+  const F stepLanes = splat<F>(step);
+  for (; i + W < end; i += W) {
+    const F phiBlock = load<F>(a.phi + i, W);
+    const F toNext = stepLanes * load<F>(a.next + i, W) * (phiBlock - load<F>(a.phi + i + 1, W));
+    const std::uint32_t firstOffset = a.offset[i];
+    M offsets;
+    std::memcpy(&offsets, a.offset + i, sizeof offsets);
+    const std::size_t otherSlot = (i + firstOffset) & a.mask;
+    F toOther;
+    if (laneBits(offsets == M{} + static_cast<std::int32_t>(firstOffset)) == kAll && otherSlot + W <= a.mask + 1) {
+      toOther = stepLanes * load<F>(a.other + i, W) * (phiBlock - load<F>(a.phi + i + firstOffset, W));
+      store(a.ring + otherSlot, W, load<F>(a.ring + otherSlot, W) + toOther);
+    } else {
+      F otherPhi;
+      std::size_t otherIndex[W];
+      for (std::size_t k = 0; k < W; ++k) {
+        otherIndex[k] = i + k + a.offset[i + k];
+        otherPhi[k] = a.phi[otherIndex[k]];
+      }
+      toOther = stepLanes * load<F>(a.other + i, W) * (phiBlock - otherPhi);
+      for (std::size_t k = 0; k < W; ++k) a.ring[otherIndex[k] & a.mask] += toOther[k];
+    }
+    F extraDelta{};
+    for (; extra < a.extras && a.extraFirst[extra] < i + W; ++extra) {
+      const std::uint32_t from = a.extraFirst[extra], j = a.extraSecond[extra];
+      const float flux = step * a.extraConductance[extra] * (a.phi[from] - a.phi[j]);
+      extraDelta[from - i] -= flux;
+      a.ring[j & a.mask] += flux;
+    }
+    const F received = load<F>(a.ring + (i & a.mask), W);
+    store(a.ring + (i & a.mask), W, F{});
+    F fromPrevious;
+    fromPrevious[0] = carried;
+    for (std::size_t k = 1; k < W; ++k) fromPrevious[k] = toNext[k - 1];
+    carried = toNext[W - 1];
+    const F delta = received + fromPrevious - toNext - toOther + extraDelta;
+    const F updated = phiBlock + delta * load<F>(a.inverseArea + i, W);
+    store(a.phi + i, W, select(updated > F{}, updated, F{}));
+  }
+  return i;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) std::size_t sweepBlocksAvx2(const SweepBlockArrays& a, float step, std::size_t i,
+                                                             std::size_t end, std::size_t& extra, float& carried) {
+  return sweepBlocks<8>(a, step, i, end, extra, carried);
+}
+#endif
 
 }  // namespace
+
 
 template <bool Flat>
 void Wetting::exchangeRange(LiquidTexture& texture, const ExchangeConstants& k, std::size_t begin, std::size_t end,
@@ -778,54 +851,21 @@ void Wetting::sweep(LiquidTexture& texture, float step, Ahead&& ahead) {
   // texel wait for the previous one's store. A missing pair has conductance 0 (and the other
   // slot offset 0: a zero flux to itself), so the common case has no branch.
   float carried = 0.0f, pigmentCarried = 0.0f;
+  const bool wide = wideLanes();
   constexpr std::size_t kChunk = 256;
   for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
     const std::size_t chunkEnd = std::min(n, chunk + kChunk);
     ahead(chunkEnd);
     std::size_t i = chunk;
     if constexpr (!WithPigment) {
-      // Four texels at a time while the next block exists (the chunks are whole blocks): their
-      // fluxes to the next texel from one shifted load, to the other pair's texel from a gather;
-      // the ring is read after the block has sent its own (a pair inside the block lands there).
-      const Lanes stepLanes = splat(step);
-      for (; i + kLaneCount < std::min(n, chunkEnd + 1); i += kLaneCount) {
-        const Lanes phiBlock = load(phi + i, kLaneCount);
-        const Lanes toNext = stepLanes * load(next + i, kLaneCount) * (phiBlock - load(phi + i + 1, kLaneCount));
-        // Inside a chart the other pair of all four is the texel one row below (the same offset):
-        // one load and one ring update; otherwise (chart borders) a gather and a scatter.
-        const std::uint32_t firstOffset = offset[i];
-        LaneMask offsets;
-        std::memcpy(&offsets, offset + i, sizeof offsets);
-        const std::size_t otherSlot = (i + firstOffset) & mask;
-        Lanes toOther;
-        if (laneBits(offsets == LaneMask{} + static_cast<std::int32_t>(firstOffset)) == 0xF && otherSlot + kLaneCount <= mask + 1) {
-          toOther = stepLanes * load(other + i, kLaneCount) * (phiBlock - load(phi + i + firstOffset, kLaneCount));
-          store(ring + otherSlot, kLaneCount, load(ring + otherSlot, kLaneCount) + toOther);
-        } else {
-          Lanes otherPhi;
-          std::size_t otherIndex[kLaneCount];
-          for (std::size_t k = 0; k < kLaneCount; ++k) {
-            otherIndex[k] = i + k + offset[i + k];
-            otherPhi[k] = phi[otherIndex[k]];
-          }
-          toOther = stepLanes * load(other + i, kLaneCount) * (phiBlock - otherPhi);
-          for (std::size_t k = 0; k < kLaneCount; ++k) ring[otherIndex[k] & mask] += toOther[k];
-        }
-        Lanes extraDelta = splat(0.0f);
-        for (; extra < extras && extraFirst_[extra] < i + kLaneCount; ++extra) {
-          const std::uint32_t from = extraFirst_[extra], j = extraSecond_[extra];
-          const float flux = step * extraConductance_[extra] * (phi[from] - phi[j]);
-          extraDelta[from - i] -= flux;
-          ring[j & mask] += flux;
-        }
-        const Lanes received = load(ring + (i & mask), kLaneCount);
-        store(ring + (i & mask), kLaneCount, splat(0.0f));
-        const Lanes fromPrevious = Lanes{carried, toNext[0], toNext[1], toNext[2]};
-        carried = toNext[3];
-        const Lanes delta = received + fromPrevious - toNext - toOther + extraDelta;
-        const Lanes updated = phiBlock + delta * load(inverseArea + i, kLaneCount);
-        store(phi + i, kLaneCount, select(updated > splat(0.0f), updated, splat(0.0f)));
-      }
+      const SweepBlockArrays blocks{next, other, offset, inverseArea, phi, ring, mask,
+                                    extraFirst_.data(), extraSecond_.data(), extraConductance_.data(), extras};
+#if defined(__x86_64__) && defined(__GNUC__)
+      if (wide)
+        i = sweepBlocksAvx2(blocks, step, i, std::min(n, chunkEnd + 1), extra, carried);
+      else
+#endif
+        i = sweepBlocks<kLaneCount>(blocks, step, i, std::min(n, chunkEnd + 1), extra, carried);
     }
     for (; i < chunkEnd; ++i) {
       const float phiI = phi[i];
