@@ -1,10 +1,12 @@
-// Benchmark for issue 7: the compute backends on one batched step. Rows:
+// Benchmark for issues 7 and 8: the compute backends on one batched step. Rows:
 //   hydrostatics: 1,000 bodies (sphere, 256^2 bake each), flat surface, one batched step
 //   mass: one body at 1024^2, uniform density, and with a density map uploaded each call
 //   bake / upload: the CPU's exact bake and its one-time upload (why the bake is not rasterized)
 //   waves: 100 of the bodies under three Gerstner waves, one batched step (texel by texel)
 //   bake vs upload vs step, 256^2 and 1024^2: bakeSurface + evaluateSurface of one body, its
 //     upload (addBody and the table rebuild its first step makes), one hydrostatics step of it
+//   wetting at 1024^2: one diffusion sub-step, and one whole liquid texture step (absorb +
+//     diffuse + evaporate, default settings, half submerged, rain, dt = 1/60 s) on each backend
 // Beside each GPU figure the bandwidth floor: bytes the pass must read over the memory bandwidth
 // (argv[2] in GB/s; default: measured host read bandwidth, which is what llvmpipe reads from).
 // Prints a table and writes CSV (argv[1], default bench_gpu.csv):
@@ -25,6 +27,7 @@
 #include "hydrotex/Primitives.hpp"
 #if defined(HYDROTEX_WITH_GPU)
 #include "hydrotex/gpu/GlBackend.hpp"
+#include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/GlWettingDiffusion.hpp"
 #endif
 #include "hydrotex/TexelAdjacency.hpp"
@@ -253,6 +256,18 @@ int main(int argc, char** argv) {
       const double pairEnds = 2.0 * double(graph->pairCount());
       const double bytes = 12.0 * double(liquid->size()) + 12.0 * pairEnds;
       rows.push_back({"cpu", "CPU", "wetting diffusion 1024^2, one sub-step", 1, liquid->size(), cpuMs, 7, 0.0});
+      {
+        Expected<Wetting> stepper = Wetting::create(*graph, big.textures, WettingSettings{});
+        FlatSurface level(0.0);
+        WettingEnvironment environment;
+        environment.liquid = &level;
+        environment.sources = {LiquidSource{}};
+        LiquidTexture stepped = *liquid;
+        const double cpuStepMs =
+            stepper ? medianMs(7, [&] { (void)stepper->step(stepped, environment, 1.0 / 60.0); }) : 0.0;
+        rows.push_back({"cpu", "CPU", "wetting step 1024^2 (absorb+diffuse+evaporate)", 1, liquid->size(), cpuStepMs, 7,
+                        0.0});
+      }
 #if defined(HYDROTEX_WITH_GPU)
       if (Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create()) {
         const std::string renderer = (*context)->renderer();
@@ -266,6 +281,20 @@ int main(int argc, char** argv) {
           });
           rows.push_back({"gpu", renderer, "wetting diffusion 1024^2, one sub-step", 1, liquid->size(),
                           std::max(0.0, stepMs - syncMs), 7, bytes});
+        }
+        // The whole liquid texture step of issue 8's goal (absorb + diffuse + evaporate, default
+        // settings, half under a flat surface, rain, dt = 1/60 s); the step reads its few volume
+        // partials back, so the time includes the GPU finishing.
+        WettingSettings defaults;
+        if (auto gl = gpu::GlWetting::create(**context, *graph, big.textures, defaults); gl && (*gl)->upload(*liquid)) {
+          FlatSurface level(0.0);
+          WettingEnvironment environment;
+          environment.liquid = &level;
+          environment.sources = {LiquidSource{}};
+          (void)(*gl)->step(environment, 1.0 / 60.0);
+          const double glStepMs = medianMs(7, [&] { (void)(*gl)->step(environment, 1.0 / 60.0); });
+          rows.push_back({"gpu", renderer, "wetting step 1024^2 (absorb+diffuse+evaporate)", 1, liquid->size(), glStepMs,
+                          7, 0.0});
         }
         Expected<std::unique_ptr<ComputeBackend>> backend = gpu::makeGlBackend(std::move(context).value());
         if (backend) {
