@@ -48,8 +48,9 @@ double saturationVapourPressure(double kelvin) {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// Whether the exchange and the sweep run eight lanes: the processor has AVX2 and HYDROTEX_DISABLE_AVX2 is not
-// set (read once per step, so that a test can compare both widths in one process).
+// Whether the exchange and the sweep run eight lanes: the processor has AVX2 and
+// HYDROTEX_DISABLE_AVX2 is not set (read once per pass, so that a test can compare both widths in
+// one process).
 bool wideLanes() {
 #if defined(__x86_64__) && defined(__GNUC__)
   static const bool hasAvx2 = __builtin_cpu_supports("avx2");
@@ -61,10 +62,10 @@ bool wideLanes() {
 
 // Texels a lane block at a time in GCC/Clang vector extensions: four (SSE2 on x86-64, NEON on
 // ARM) everywhere, eight in the exchange pass and the diffusion sweep where the processor has
-// AVX2 (chosen at run time; the same IEEE operations per lane, without fused multiply-adds). The per-texel pass
-// is arithmetic on independent texels, and the stage of each (under the liquid, wet, drying) is
-// selected per lane instead of branched to.
-// (Spelt out per width: GCC drops vector_size from a type that depends on a template parameter.)
+// AVX2 (chosen at run time; the same IEEE operations per lane, without fused multiply-adds). The
+// per-texel pass is arithmetic on independent texels, and the stage of each (under the liquid,
+// wet, drying) is selected per lane instead of branched to. The types are spelt out per width:
+// GCC drops vector_size from a type that depends on a template parameter.
 template <std::size_t W>
 struct LaneTypes;
 template <>
