@@ -4,7 +4,8 @@
 /// ping-pong buffers (wetting_diffuse.comp explains why the total is conserved without atomics),
 /// between a pass that pools each merged group onto its holder and one that spreads it back
 /// (wetting_groups.comp). The sub-step count and the stability bound are Wetting's:
-/// n = ceil(dt / stable step of the groups), each of dt / n.
+/// n = ceil(dt / stable step of the groups), each of dt / n; beyond maxExplicitSubsteps, one
+/// backward Euler step (solveImplicit, then one flux pass from its solution), as Wetting does.
 
 #include "hydrotex/gpu/GlWettingDiffusion.hpp"
 

@@ -40,6 +40,8 @@ struct DiffusionGroups {
 /// Merges the texels of `graph` whose bound A_i / sum_j g_ij is below `mergeBelowFraction` times
 /// the median texel's (0: no merging; each texel is then its own node). Groups grow by pairing
 /// each stiff group with its most strongly coupled neighbour, the larger one holding the union.
+/// `graph` must be consistent, as buildTexelAdjacency makes it (Wetting::create and
+/// gpu::GlWettingDiffusion::create check it before they call this).
 DiffusionGroups mergeStiffTexels(const TexelAdjacency& graph, double mergeBelowFraction);
 
 }  // namespace hydrotex
