@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
 #include <random>
 
 #include "TestSurfaces.hpp"
+#include "hydrotex/DiffusionGroups.hpp"
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 #include "hydrotex/Wetting.hpp"
@@ -464,4 +466,61 @@ TEST_CASE("The eight-lane (AVX2) and four-lane passes give the same liquid textu
   CHECK(differing == 0);
   // The step did something: liquid moved in and out.
   CHECK(wide.heldVolume(body.wetting.adjacency().area) != Approx(texture->heldVolume(body.wetting.adjacency().area)));
+}
+
+TEST_CASE("mergeStiffTexels: groups partition the texels, keep the area, join only holders and meet the bound", "[wetting][merge]") {
+  // The structure the CPU and the GPU both diffuse on (DiffusionGroups.hpp). A 256^2 UV sphere
+  // has squeezed texels at its poles; with the default fraction 0.1 they are merged.
+  WettingSettings settings;
+  Body body = prepare(primitives::uvSphere(1.0, 96, 48), 256, settings);
+  const TexelAdjacency& graph = body.wetting.adjacency();
+  const DiffusionGroups groups = mergeStiffTexels(graph, settings.mergeBelowFraction);
+  const std::size_t n = graph.area.size();
+  REQUIRE(groups.groupCount() > 0);
+  REQUIRE(groups.nodeArea.size() == n);
+  // Every texel is in at most one group; a group's first member holds it.
+  std::vector<int> seen(n, 0);
+  std::vector<std::uint8_t> holder(n, 1);
+  std::size_t small = 0, memberWithArea = 0, holderWithoutGroupArea = 0;
+  for (std::size_t g = 0; g < groups.groupCount(); ++g) {
+    if (groups.start[g + 1] - groups.start[g] < 2) ++small;
+    double area = 0.0;
+    for (std::uint32_t m = groups.start[g]; m < groups.start[g + 1]; ++m) {
+      ++seen[groups.members[m]];
+      area += graph.area[groups.members[m]];
+      if (m != groups.start[g]) {
+        holder[groups.members[m]] = 0;
+        if (groups.nodeArea[groups.members[m]] != 0.0) ++memberWithArea;
+      }
+    }
+    // The holder carries the group's area (the same additions, maybe in another order: 1e-12).
+    if (std::abs(groups.nodeArea[groups.members[groups.start[g]]] - area) > 1e-12 * area) ++holderWithoutGroupArea;
+  }
+  CHECK(small == 0);
+  CHECK(memberWithArea == 0);
+  CHECK(holderWithoutGroupArea == 0);
+  CHECK(*std::max_element(seen.begin(), seen.end()) == 1);
+  // Total area kept.
+  const double total = std::accumulate(graph.area.begin(), graph.area.end(), 0.0);
+  CHECK(std::accumulate(groups.nodeArea.begin(), groups.nodeArea.end(), 0.0) == Approx(total).epsilon(1e-12));
+  // Pairs join two different holders.
+  std::vector<double> conductanceSum(n, 0.0);
+  std::size_t badPairs = 0;
+  for (std::size_t p = 0; p < groups.pairFirst.size(); ++p) {
+    const std::uint32_t a = groups.pairFirst[p], b = groups.pairSecond[p];
+    if (a == b || !holder[a] || !holder[b]) ++badPairs;
+    conductanceSum[a] += groups.pairGeometric[p];
+    conductanceSum[b] += groups.pairGeometric[p];
+  }
+  CHECK(badPairs == 0);
+  // The stability bound is the smallest nodeArea / sum g over holders, and merging raised it
+  // above the unmerged graph's (that is what it is for).
+  double bound = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i)
+    if (conductanceSum[i] > 0.0) bound = std::min(bound, groups.nodeArea[i] / conductanceSum[i]);
+  CHECK(groups.stableStepTimesDiffusivity == Approx(bound).epsilon(1e-12));
+  const DiffusionGroups alone = mergeStiffTexels(graph, 0.0);
+  CHECK(alone.groupCount() == 0);
+  CHECK(alone.pairFirst.size() == graph.pairCount());
+  CHECK(groups.stableStepTimesDiffusivity > 10.0 * alone.stableStepTimesDiffusivity);
 }
