@@ -4,6 +4,7 @@
 #include "hydrotex/DiffusionGroups.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace hydrotex {
@@ -92,6 +93,12 @@ DiffusionGroups mergeStiffTexels(const TexelAdjacency& g, double mergeBelowFract
     if (conductanceSum[i] > 0.0)
       out.stableStepTimesDiffusivity = std::min(out.stableStepTimesDiffusivity, out.nodeArea[i] / conductanceSum[i]);
   return out;
+}
+
+int diffusionSubsteps(double dt, double stableStep, int maxExplicitSubsteps) {
+  if (!(dt > 0.0) || !std::isfinite(stableStep)) return 0;
+  const double substeps = std::ceil(dt / stableStep);
+  return substeps <= maxExplicitSubsteps ? std::max(1, static_cast<int>(substeps)) : -1;
 }
 
 }  // namespace hydrotex

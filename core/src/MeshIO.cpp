@@ -8,6 +8,7 @@
 #include "MeshImportFileSystem.hpp"
 #include "OffGuard.hpp"
 #include "PlyGuard.hpp"
+#include "TextCase.hpp"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -202,22 +203,17 @@ Expected<Mesh> convertScene(const aiScene& scene, const std::string& path) {
   return result;
 }
 
-std::string lowercase(std::string text) {
-  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return text;
-}
-
 /// Why assimp must not be given these bytes (PlyGuard.hpp, OffGuard.hpp), or nothing. `bytes`:
 /// the whole file for a PLY, at least its head otherwise; `extension`: the file's, or the format
 /// hint, without the dot.
 std::optional<std::string> readerTrap(std::string_view bytes, std::size_t size, const std::string& extension) {
   if (std::optional<std::string> trap = detail::plyTrap(bytes, size)) return trap;
-  return detail::offTrap(bytes, size, lowercase(extension) == "off");
+  return detail::offTrap(bytes, size, detail::lowered(extension) == "off");
 }
 
 /// assimp exporter id for a file extension (with the dot, any case).
 std::string exportFormatFor(const std::string& anyCase) {
-  const std::string extension = lowercase(anyCase);
+  const std::string extension = detail::lowered(anyCase);
   if (extension == ".obj") return "obj";
   if (extension == ".gltf") return "gltf2";
   if (extension == ".glb") return "glb2";

@@ -2,6 +2,7 @@
 /// See MeshImportFileSystem.hpp for why assimp's own file systems are not used.
 
 #include "MeshImportFileSystem.hpp"
+#include "TextCase.hpp"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/MemoryIOWrapper.h>
@@ -14,10 +15,7 @@ namespace hydrotex::detail {
 namespace {
 
 bool isMaterialLibrary(const std::string& file) {
-  std::string extension = std::filesystem::path(file).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension == ".mtl";
+  return lowered(std::filesystem::path(file).extension().string()) == ".mtl";
 }
 
 /// Read-only opens only: importing never writes.

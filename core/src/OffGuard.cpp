@@ -2,6 +2,7 @@
 /// See OffGuard.hpp. Only the counts are checked; everything else is assimp's reader's job.
 
 #include "OffGuard.hpp"
+#include "TextCase.hpp"
 
 #include <cctype>
 #include <charconv>
@@ -26,13 +27,7 @@ std::string_view nextToken(std::string_view text, std::size_t& at) {
   return text.substr(start, at - start);
 }
 
-bool endsWithOff(std::string_view token) {
-  if (token.size() < 3) return false;
-  const std::string_view tail = token.substr(token.size() - 3);
-  return std::tolower(static_cast<unsigned char>(tail[0])) == 'o' &&
-         std::tolower(static_cast<unsigned char>(tail[1])) == 'f' &&
-         std::tolower(static_cast<unsigned char>(tail[2])) == 'f';
-}
+bool endsWithOff(std::string_view token) { return token.size() >= 3 && lowered(token.substr(token.size() - 3)) == "off"; }
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 /// See PlyGuard.hpp. Only what assimp trips on is checked; everything else is its reader's job.
 
 #include "PlyGuard.hpp"
+#include "TextCase.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -16,11 +17,6 @@ namespace {
 
 bool isBlank(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
 
-std::string lowered(std::string_view text) {
-  std::string result(text);
-  for (char& c : result) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return result;
-}
 
 /// Bytes of one binary value of a PLY type name (0: not a type).
 std::size_t typeBytes(const std::string& type) {
@@ -239,8 +235,7 @@ std::optional<std::string> plyTrap(std::string_view bytes, std::size_t fileSize)
   for (const PlyElement& element : elements) {
     // An entry without properties still costs the reader an instance (and an ASCII file a line):
     // one byte each at least, or a binary walk over 2^64 empty entries would never end.
-    std::uint64_t instanceBytes = 1;
-    if (!element.properties.empty()) instanceBytes = 0;
+    std::uint64_t instanceBytes = element.properties.empty() ? 1 : 0;
     for (const PlyProperty& property : element.properties) instanceBytes += ascii ? 2 : property.bytes;
     if (element.count > room / instanceBytes)
       return "PLY element '" + element.name + "' declares " + std::to_string(element.count) +

@@ -80,15 +80,13 @@ struct LaneTypes<8> {
   using M = std::int32_t __attribute__((vector_size(32)));
   using B = std::uint8_t __attribute__((vector_size(8)));
 };
-using Lanes = LaneTypes<4>::F;
-using LaneMask = LaneTypes<4>::M;
-constexpr std::size_t kLaneCount = 4;
+constexpr std::size_t kLaneCount = 4;  // the width everywhere
 #define HYDROTEX_LANE_INLINE inline __attribute__((always_inline))
 // The eight-lane helpers are always inlined into the AVX2 kernel, never called across an ABI
 // boundary: GCC's note that passing 32-byte vectors without AVX changes the ABI does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-template <class F = Lanes>
+template <class F>
 HYDROTEX_LANE_INLINE F splat(float x) {
   return F{} + x;
 }
@@ -101,7 +99,7 @@ HYDROTEX_LANE_INLINE F minimum(F a, F b) {
   return select(a < b, a, b);
 }
 // `count` (1..lanes) values from `p`; the lanes past them are 0. A whole block is one unaligned move.
-template <class F = Lanes>
+template <class F>
 HYDROTEX_LANE_INLINE F load(const float* p, std::size_t count) {
   F v{};
   if (count == sizeof(F) / sizeof(float))
@@ -338,7 +336,6 @@ void Wetting::buildDiffusionGroups() {
   while (ringSize <= reach) ringSize *= 2;
   ring_.assign(ringSize, 0.0f);
   pigmentRing_.assign(ringSize, 0.0f);
-  stableStep_ = groups_.stableTimeStep(settings_.diffusivity);
 }
 
 void liquidPressureAtTexels(const LiquidSurface& liquid, const WettingEnvironment& environment, const float* x,
@@ -406,9 +403,7 @@ Expected<WettingStepReport> Wetting::step(LiquidTexture& texture, const WettingE
 }
 
 int Wetting::explicitSubsteps(double dt) const {
-  if (!(dt > 0.0) || groups_.pairFirst.empty() || !(settings_.diffusivity > 0.0)) return 0;
-  const double substeps = std::ceil(dt / stableStep_);
-  return substeps <= settings_.maxExplicitSubsteps ? std::max(1, static_cast<int>(substeps)) : -1;
+  return diffusionSubsteps(dt, stableTimeStep(), settings_.maxExplicitSubsteps);
 }
 
 template <bool Flat>
@@ -853,14 +848,14 @@ void Wetting::sweep(LiquidTexture& texture, float step, Ahead&& ahead) {
   // slot offset 0: a zero flux to itself), so the common case has no branch.
   float carried = 0.0f, pigmentCarried = 0.0f;
   const bool wide = wideLanes();
+  const SweepBlockArrays blocks{next, other, offset, inverseArea, phi, ring, mask,
+                                extraFirst_.data(), extraSecond_.data(), extraConductance_.data(), extras};
   constexpr std::size_t kChunk = 256;
   for (std::size_t chunk = 0; chunk < n; chunk += kChunk) {
     const std::size_t chunkEnd = std::min(n, chunk + kChunk);
     ahead(chunkEnd);
     std::size_t i = chunk;
     if constexpr (!WithPigment) {
-      const SweepBlockArrays blocks{next, other, offset, inverseArea, phi, ring, mask,
-                                    extraFirst_.data(), extraSecond_.data(), extraConductance_.data(), extras};
 #if defined(__x86_64__) && defined(__GNUC__)
       if (wide)
         i = sweepBlocksAvx2(blocks, step, i, std::min(n, chunkEnd + 1), extra, carried);

@@ -27,7 +27,7 @@ constexpr std::size_t kGroupSize = 64;  // wetting_exchange.comp's local_size_x
 struct GlWetting::Impl {
   std::unique_ptr<GlWettingDiffusion> diffusion;
   GlProgram program;
-  GlBuffer material, pressure, area, geometry, submerged, partials;
+  GlBuffer material, pressure, geometry, submerged, partials;
   std::vector<float> partialsHost;  // per work group: absorbed, evaporated (m^3), submerged texels
   // Under a surface that is not flat the host evaluates the pressure per texel, as the CPU does:
   // the centroids as Wetting keeps them, one array per coordinate, and scratch for the pass.
@@ -57,11 +57,11 @@ Expected<std::unique_ptr<GlWetting>> GlWetting::create(const EglContext& context
       "wetting_exchange.comp", {"#version 430 core\n", embeddedShader("wetting_exchange.comp")});
   if (!program) return Error{"gpu wetting: " + program.error().message};
   impl.program = std::move(program).value();
-  // The same float centroids, unit normals and areas as Wetting::create; centroid and normal of
-  // a texel side by side in one buffer (the pass uses eight storage blocks, GL 4.3's minimum).
-  std::vector<float> area(n), geometry(6 * n);
+  // The same float centroids and unit normals as Wetting::create (the areas are the diffusion's),
+  // centroid and normal of a texel side by side in one buffer (the pass uses eight storage
+  // blocks, GL 4.3's minimum).
+  std::vector<float> geometry(6 * n);
   for (std::size_t i = 0; i < n; ++i) {
-    area[i] = static_cast<float>(adjacency.area[i]);
     const float norm = textures.areaVector[i].norm();
     const Eigen::Vector3f unit = norm > 0.0f ? Eigen::Vector3f(textures.areaVector[i] / norm) : Eigen::Vector3f::Zero();
     for (int k = 0; k < 3; ++k) {
@@ -74,7 +74,6 @@ Expected<std::unique_ptr<GlWetting>> GlWetting::create(const EglContext& context
     buffer.write(0, items.data(), items.size() * sizeof(float));
     return buffer;
   };
-  impl.area = upload(area);
   impl.geometry = upload(geometry);
   impl.px.resize(n);
   impl.py.resize(n);
@@ -150,7 +149,7 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   impl.diffusion->bindLiquid(0);
   impl.material.bind(1);
   impl.pressure.bind(2);
-  impl.area.bind(3);
+  impl.diffusion->bindArea(3);
   impl.geometry.bind(4);
   const bool withPigment = impl.diffusion->bindPigment(5);
   impl.submerged.bind(6);
@@ -200,8 +199,7 @@ Expected<WettingStepReport> GlWetting::step(const WettingEnvironment& environmen
   Expected<int> diffused = impl.diffusion->diffuse(dt);
   if (!diffused) return diffused.error();
   report.diffusionSubsteps = *diffused;
-  report.implicitDiffusion = dt > 0.0 && settings_.diffusivity > 0.0 &&
-                             std::ceil(dt / impl.diffusion->stableTimeStep()) > settings_.maxExplicitSubsteps;
+  report.implicitDiffusion = diffusionSubsteps(dt, impl.diffusion->stableTimeStep(), settings_.maxExplicitSubsteps) < 0;
   impl.partials.read(0, impl.partialsHost.data(), impl.partialsHost.size() * sizeof(float));
   double submerged = 0.0;
   for (std::size_t g = 0; g < groups; ++g) {

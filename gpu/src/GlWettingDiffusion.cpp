@@ -30,7 +30,7 @@ struct GlWettingDiffusion::Impl {
   GlBuffer liquid[2], pigment[2], graph, conductance, inverseArea, groupStart, members, area;
   GlBuffer solution, work, scalars;  // backward Euler's x, its r, z, p, Ap, and the solver's scalars (made on first use)
   int current = 0;  // which liquid (and pigment) buffer holds the state
-  bool hasPairs = false, withPigment = false;
+  bool withPigment = false;
   std::size_t groupCount = 0;
 
   // Pools (spreading false) or spreads every merged group of the current buffers.
@@ -112,27 +112,21 @@ Expected<std::unique_ptr<GlWettingDiffusion>> GlWettingDiffusion::create(const E
 
   if (Status s = context.makeCurrent(); !s) return s.error();
   std::unique_ptr<GlWettingDiffusion> out(new GlWettingDiffusion(context));
-  Expected<GlProgram> program = GlProgram::compute(
-      "wetting_diffuse.comp", {"#version 430 core\n", embeddedShader("wetting_diffuse.comp")});
-  if (!program) return Error{"gpu wetting diffusion: " + program.error().message};
-  Expected<GlProgram> groupProgram = GlProgram::compute(
-      "wetting_groups.comp", {"#version 430 core\n", embeddedShader("wetting_groups.comp")});
-  if (!groupProgram) return Error{"gpu wetting diffusion: " + groupProgram.error().message};
-  Expected<GlProgram> implicitProgram = GlProgram::compute(
-      "wetting_implicit.comp", {"#version 430 core\n", embeddedShader("wetting_implicit.comp")});
-  if (!implicitProgram) return Error{"gpu wetting diffusion: " + implicitProgram.error().message};
-  Expected<GlProgram> reduceProgram = GlProgram::compute(
-      "wetting_implicit_reduce.comp", {"#version 430 core\n", embeddedShader("wetting_implicit_reduce.comp")});
-  if (!reduceProgram) return Error{"gpu wetting diffusion: " + reduceProgram.error().message};
-  Expected<GlProgram> implicitFluxProgram = GlProgram::compute(
-      "wetting_diffuse.comp (double)", {"#version 430 core\n#define real double\n", embeddedShader("wetting_diffuse.comp")});
-  if (!implicitFluxProgram) return Error{"gpu wetting diffusion: " + implicitFluxProgram.error().message};
   Impl& impl = *out->impl_;
-  impl.program = std::move(program).value();
-  impl.groupProgram = std::move(groupProgram).value();
-  impl.implicitProgram = std::move(implicitProgram).value();
-  impl.reduceProgram = std::move(reduceProgram).value();
-  impl.implicitFluxProgram = std::move(implicitFluxProgram).value();
+  // Each program from its embedded shader after a prelude (the version, and any defines).
+  auto compile = [](GlProgram& into, const char* file, std::string_view prelude) -> Status {
+    Expected<GlProgram> program = GlProgram::compute(file, {prelude, embeddedShader(file)});
+    if (!program) return Error{"gpu wetting diffusion: " + program.error().message};
+    into = std::move(program).value();
+    return Ok{};
+  };
+  constexpr std::string_view kVersion = "#version 430 core\n";
+  for (const Status& compiled :
+       {compile(impl.program, "wetting_diffuse.comp", kVersion), compile(impl.groupProgram, "wetting_groups.comp", kVersion),
+        compile(impl.implicitProgram, "wetting_implicit.comp", kVersion),
+        compile(impl.reduceProgram, "wetting_implicit_reduce.comp", kVersion),
+        compile(impl.implicitFluxProgram, "wetting_diffuse.comp", "#version 430 core\n#define real double\n")})
+    if (!compiled) return compiled.error();
   auto upload = [](const auto& items) {
     GlBuffer buffer(items.size() * sizeof(items[0]));
     buffer.write(0, items.data(), items.size() * sizeof(items[0]));
@@ -147,10 +141,8 @@ Expected<std::unique_ptr<GlWettingDiffusion>> GlWettingDiffusion::create(const E
   impl.groupCount = groups.groupCount();
   impl.liquid[0] = GlBuffer(n * sizeof(float));
   impl.liquid[1] = GlBuffer(n * sizeof(float));
-  impl.hasPairs = pairs > 0;
   out->texelCount_ = n;
   out->stableStep_ = groups.stableTimeStep(settings.diffusivity);
-  out->diffusivity_ = settings.diffusivity;
   out->maxSubsteps_ = settings.maxExplicitSubsteps;
   return out;
 }
@@ -177,11 +169,11 @@ Status GlWettingDiffusion::upload(const LiquidTexture& texture) {
 
 Expected<int> GlWettingDiffusion::diffuse(double dt) {
   if (!std::isfinite(dt)) return Error{"gpu wetting diffusion: time step " + std::to_string(dt) + " s is not finite"};
-  if (!(dt > 0.0) || !impl_->hasPairs || !(diffusivity_ > 0.0)) return 0;
+  const int substeps = diffusionSubsteps(dt, stableStep_, maxSubsteps_);
+  if (substeps == 0) return 0;
   if (Status s = context_.makeCurrent(); !s) return s.error();
-  const double substeps = std::ceil(dt / stableStep_);
-  const bool implicit = substeps > maxSubsteps_;
-  const int count = implicit ? 1 : std::max(1, static_cast<int>(substeps));
+  const bool implicit = substeps < 0;
+  const int count = implicit ? 1 : substeps;
   Impl& impl = *impl_;
   impl.groups(false);
   // Backward Euler's solution is the potential of one flux pass; an explicit sub-step's is the
@@ -273,6 +265,8 @@ void GlWettingDiffusion::solveImplicit(double dt) {
 }
 
 void GlWettingDiffusion::bindLiquid(unsigned binding) const { impl_->liquid[impl_->current].bind(binding); }
+
+void GlWettingDiffusion::bindArea(unsigned binding) const { impl_->area.bind(binding); }
 
 bool GlWettingDiffusion::bindPigment(unsigned binding) const {
   // Without a pigment channel the liquid stands in for the binding (never read).

@@ -524,3 +524,15 @@ TEST_CASE("mergeStiffTexels: groups partition the texels, keep the area, join on
   CHECK(alone.pairFirst.size() == graph.pairCount());
   CHECK(groups.stableStepTimesDiffusivity > 10.0 * alone.stableStepTimesDiffusivity);
 }
+
+TEST_CASE("diffusionSubsteps: none, explicit up to the limit, then implicit", "[wetting][merge]") {
+  // The rule both backends follow (DiffusionGroups.hpp), on a stable step of 1 s.
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(diffusionSubsteps(0.0, 1.0, 4) == 0);     // no time
+  CHECK(diffusionSubsteps(-1.0, 1.0, 4) == 0);
+  CHECK(diffusionSubsteps(10.0, inf, 4) == 0);    // no pairs or D = 0: nothing diffuses
+  CHECK(diffusionSubsteps(1e-9, 1.0, 4) == 1);    // a short step still takes one sub-step
+  CHECK(diffusionSubsteps(2.5, 1.0, 4) == 3);     // ceil(dt / stable)
+  CHECK(diffusionSubsteps(4.0, 1.0, 4) == 4);     // at the limit: explicit
+  CHECK(diffusionSubsteps(4.001, 1.0, 4) == -1);  // beyond: backward Euler
+}

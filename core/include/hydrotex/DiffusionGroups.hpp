@@ -44,4 +44,10 @@ struct DiffusionGroups {
 /// gpu::GlWettingDiffusion::create check it before they call this).
 DiffusionGroups mergeStiffTexels(const TexelAdjacency& graph, double mergeBelowFraction);
 
+/// How a diffusion step of `dt` (s) runs under the stable explicit step `stableStep` (s,
+/// DiffusionGroups::stableTimeStep): 0 when nothing diffuses (dt <= 0, or an infinite bound: no
+/// pairs or D = 0), ceil(dt / stableStep) explicit sub-steps while that is at most
+/// `maxExplicitSubsteps`, -1 beyond (one backward Euler step). The CPU and the GPU both ask this.
+int diffusionSubsteps(double dt, double stableStep, int maxExplicitSubsteps);
+
 }  // namespace hydrotex

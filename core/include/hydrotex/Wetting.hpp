@@ -121,7 +121,7 @@ class Wetting {
   /// Texels under the liquid at the last absorb() (1) or not (0).
   const std::vector<std::uint8_t>& submergedMask() const { return submerged_; }
   /// Largest stable explicit step (s) of the diffusion (after merging stiff texels).
-  double stableTimeStep() const { return stableStep_; }
+  double stableTimeStep() const { return groups_.stableTimeStep(settings_.diffusivity); }
   /// Number of merged diffusion groups (of two or more texels).
   std::size_t mergedGroupCount() const { return groups_.groupCount(); }
   /// Number of texels in merged diffusion groups.
@@ -197,7 +197,6 @@ class Wetting {
   struct BodySource;
   std::vector<BodySource> bodySources_;      // scratch: this step's sources in the body frame
   std::unique_ptr<ImplicitSystem> implicit_;
-  double stableStep_ = 0.0;
 };
 
 }  // namespace hydrotex

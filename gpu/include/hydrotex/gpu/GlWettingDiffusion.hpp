@@ -47,6 +47,9 @@ class GlWettingDiffusion {
   /// context, for passes that change it between diffusion steps (GlWetting's absorption and
   /// evaporation). The context must be current.
   void bindLiquid(unsigned binding) const;
+  /// Binds the texels' areas (float m^2, the values of TexelAdjacency::area) to storage binding
+  /// `binding` of the current context.
+  void bindArea(unsigned binding) const;
   /// Binds the resident pigment (m of pigment per texel) to storage binding `binding` and returns
   /// true; without a pigment channel binds the liquid there (not to be read) and returns false.
   bool bindPigment(unsigned binding) const;
@@ -63,7 +66,6 @@ class GlWettingDiffusion {
   std::unique_ptr<Impl> impl_;
   std::size_t texelCount_ = 0;
   double stableStep_ = 0.0;
-  double diffusivity_ = 0.0;
   int maxSubsteps_ = 0;
 };
 
