@@ -38,6 +38,16 @@ Graph sphereGraph(int resolution) {
 
 double held(const LiquidTexture& t, const std::vector<double>& area) { return t.heldVolume(area); }
 
+// A headless EGL context, or null after a WARN (no GL stack skips the case, never fails it).
+std::unique_ptr<gpu::EglContext> openContext() {
+  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
+  if (!context) {
+    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
+    return nullptr;
+  }
+  return std::move(context).value();
+}
+
 // The pigment channels of a CPU and a GPU run from the same start: totals (m^3) and the largest
 // per-texel difference (m).
 struct PigmentComparison {
@@ -57,11 +67,8 @@ PigmentComparison comparePigment(const LiquidTexture& start, const LiquidTexture
 }  // namespace
 
 TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liquid", "[gpu][wetting]") {
-  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
-  if (!context) {
-    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
-    return;
-  }
+  const std::unique_ptr<gpu::EglContext> context = openContext();
+  if (!context) return;
   const Graph graph = sphereGraph(64);
   WettingSettings settings;
   settings.diffusivity = 1e-4;
@@ -73,7 +80,7 @@ TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liqui
   REQUIRE(cpu.ok());
   // The default merges the squeezed texels at the poles: the GPU must pool and spread them.
   CHECK((cpu->mergedGroupCount() > 0) == (settings.mergeBelowFraction > 0.0));
-  auto gl = gpu::GlWettingDiffusion::create(**context, graph.adjacency, settings);
+  auto gl = gpu::GlWettingDiffusion::create(*context, graph.adjacency, settings);
   INFO((gl ? std::string() : gl.error().message));
   REQUIRE(gl.ok());
   CHECK((*gl)->stableTimeStep() == cpu->stableTimeStep());  // the same bound of the same groups
@@ -125,11 +132,8 @@ TEST_CASE("GL wetting diffusion matches Wetting::diffuse and conserves the liqui
 }
 
 TEST_CASE("GL wetting's implicit diffusion matches Wetting's backward Euler and conserves the liquid", "[gpu][wetting]") {
-  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
-  if (!context) {
-    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
-    return;
-  }
+  const std::unique_ptr<gpu::EglContext> context = openContext();
+  if (!context) return;
   const Graph graph = sphereGraph(64);
   WettingSettings settings;  // defaults: merged stiff texels, at most 4 explicit sub-steps
   settings.diffusivity = 1e-4;
@@ -139,7 +143,7 @@ TEST_CASE("GL wetting's implicit diffusion matches Wetting's backward Euler and 
   CAPTURE(withPigment, stableSteps);
   auto cpu = Wetting::create(graph.adjacency, graph.textures, settings);
   REQUIRE(cpu.ok());
-  auto gl = gpu::GlWettingDiffusion::create(**context, graph.adjacency, settings);
+  auto gl = gpu::GlWettingDiffusion::create(*context, graph.adjacency, settings);
   REQUIRE(gl.ok());
   auto texture = makeLiquidTexture(graph.textures.size(), WettingMaterial{}, {}, {}, withPigment);
   REQUIRE(texture.ok());
@@ -186,15 +190,12 @@ TEST_CASE("GL wetting's implicit diffusion matches Wetting's backward Euler and 
 }
 
 TEST_CASE("GL wetting diffusion refuses what it does not do, with errors", "[gpu][wetting]") {
-  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
-  if (!context) {
-    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
-    return;
-  }
+  const std::unique_ptr<gpu::EglContext> context = openContext();
+  if (!context) return;
   const Graph graph = sphereGraph(32);
   WettingSettings settings;
   settings.diffusivity = 1e-4;
-  auto gl = gpu::GlWettingDiffusion::create(**context, graph.adjacency, settings);
+  auto gl = gpu::GlWettingDiffusion::create(*context, graph.adjacency, settings);
   REQUIRE(gl.ok());
   CHECK(!(*gl)->diffuse(std::nan("")).ok());
   LiquidTexture wrong;
@@ -211,15 +212,12 @@ TEST_CASE("GL wetting diffusion refuses what it does not do, with errors", "[gpu
   CHECK((*gl)->download(*pigmented).ok());
   TexelAdjacency bad = graph.adjacency;
   bad.first[0] = std::uint32_t(bad.area.size() + 5);
-  CHECK(!gpu::GlWettingDiffusion::create(**context, bad, settings).ok());
+  CHECK(!gpu::GlWettingDiffusion::create(*context, bad, settings).ok());
 }
 
 TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + evaporated", "[gpu][wetting]") {
-  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
-  if (!context) {
-    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
-    return;
-  }
+  const std::unique_ptr<gpu::EglContext> context = openContext();
+  if (!context) return;
   const Graph graph = sphereGraph(64);
   WettingSettings settings;
   settings.diffusivity = 1e-6;
@@ -231,7 +229,7 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
   settings.maxExplicitSubsteps = 1000;
   auto cpu = Wetting::create(graph.adjacency, graph.textures, settings);
   REQUIRE(cpu.ok());
-  auto gl = gpu::GlWetting::create(**context, graph.adjacency, graph.textures, settings);
+  auto gl = gpu::GlWetting::create(*context, graph.adjacency, graph.textures, settings);
   INFO((gl ? std::string() : gl.error().message));
   REQUIRE(gl.ok());
 
@@ -311,14 +309,11 @@ TEST_CASE("GL wetting steps match Wetting::step and balance absorbed = held + ev
 }
 
 TEST_CASE("GL wetting refuses what it cannot do, with errors, and takes long steps and a medium", "[gpu][wetting]") {
-  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
-  if (!context) {
-    WARN("GL wetting skipped, no headless EGL context: " << context.error().message);
-    return;
-  }
+  const std::unique_ptr<gpu::EglContext> context = openContext();
+  if (!context) return;
   const Graph graph = sphereGraph(32);
   WettingSettings settings;  // defaults: merged stiff texels
-  auto gl = gpu::GlWetting::create(**context, graph.adjacency, graph.textures, settings);
+  auto gl = gpu::GlWetting::create(*context, graph.adjacency, graph.textures, settings);
   REQUIRE(gl.ok());
   WettingEnvironment environment;
   CHECK_FALSE((*gl)->step(environment, 0.01).ok());  // nothing uploaded
@@ -340,5 +335,5 @@ TEST_CASE("GL wetting refuses what it cannot do, with errors, and takes long ste
   REQUIRE(longStep.ok());
   CHECK(longStep->implicitDiffusion);
   CHECK(longStep->diffusionSubsteps == 0);
-  CHECK_FALSE(gpu::GlWetting::create(**context, graph.adjacency, SurfaceTextures{}, settings).ok());
+  CHECK_FALSE(gpu::GlWetting::create(*context, graph.adjacency, SurfaceTextures{}, settings).ok());
 }
