@@ -10,6 +10,7 @@ packages=(
   libglfw3-dev xvfb xauth
   ffmpeg gnuplot-nox
   clang-14 libclang-rt-14-dev
+  ccache
 )
 
 missing=()

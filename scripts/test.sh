@@ -1,13 +1,47 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test suite through CTest (build/); then every suite
-# again under AddressSanitizer and UndefinedBehaviorSanitizer (build-asan/); then each libFuzzer
-# target for a fixed time with a fixed seed on the corpus kept in fuzz/corpus (scripts/fuzz.sh,
-# FUZZ_SECONDS=60 each by default). HYDROTEX_SKIP_SANITIZERS=1 and HYDROTEX_SKIP_FUZZ=1 skip those
-# stages (a quick local run).
+# The gating run (CI's .ci/run calls it; the README names it). Stages, each timed:
+#   install          scripts/install-deps.sh (Debian packages)
+#   build            Release build into build/ (scripts/build.sh)
+#   tests            every CTest suite in build/
+#   sanitizer build  the suites again with ASan + UBSan into build-asan/ (scripts/test-sanitizers.sh)
+#   sanitizer tests  ... and run there
+#   fuzz build       the libFuzzer targets into build-fuzz/ (scripts/fuzz-build.sh)
+#   fuzz replay      every kept input once, then a fixed count of generated inputs from a fixed
+#                    seed (scripts/fuzz-regression.sh): the same work and verdict in any clone
+# Nothing here depends on time or load: speed goals live in the benchmarks, exploratory fuzzing in
+# scripts/fuzz.sh. HYDROTEX_SKIP_SANITIZERS=1 and HYDROTEX_SKIP_FUZZ=1 skip those stages (a quick
+# local run). Each stage's time is printed at the end, also when a stage fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
-scripts/build.sh
-ctest --test-dir build --output-on-failure -j "$(nproc)"
-if [ "${HYDROTEX_SKIP_SANITIZERS:-0}" != 1 ]; then scripts/test-sanitizers.sh; fi
-if [ "${HYDROTEX_SKIP_FUZZ:-0}" != 1 ]; then scripts/fuzz.sh; fi
+stage_times=()
+run_start=$(date +%s)
+print_stage_times() {
+  echo "test.sh: stage times (s)"
+  for line in "${stage_times[@]}"; do echo "  $line"; done
+  echo "  total: $(($(date +%s) - run_start))"
+}
+trap print_stage_times EXIT
+stage() {
+  local name=$1 start
+  shift
+  start=$(date +%s)
+  echo "test.sh: == $name"
+  if "$@"; then
+    stage_times+=("$name: $(($(date +%s) - start))")
+  else
+    local code=$?
+    stage_times+=("$name: $(($(date +%s) - start)) (failed, exit $code)")
+    exit "$code"
+  fi
+}
+stage install scripts/install-deps.sh
+stage build scripts/build.sh
+stage tests ctest --test-dir build --output-on-failure -j "$(nproc)"
+if [ "${HYDROTEX_SKIP_SANITIZERS:-0}" != 1 ]; then
+  stage "sanitizer build" scripts/test-sanitizers.sh build
+  stage "sanitizer tests" scripts/test-sanitizers.sh run
+fi
+if [ "${HYDROTEX_SKIP_FUZZ:-0}" != 1 ]; then
+  stage "fuzz build" scripts/fuzz-build.sh
+  stage "fuzz replay" scripts/fuzz-regression.sh
+fi
