@@ -1,7 +1,9 @@
 // libFuzzer target: scene parsing (hydrotex::bullet::parseScene on arbitrary text), then, for
 // small valid scenes, building the Bullet world and stepping it a few times. Mesh paths resolve
-// against data/scenes, so the corpus' "../meshes/box.obj" works. Anything may fail with an Error;
-// nothing may crash, leak, hang or trip a sanitizer.
+// against data/scenes relative to the working directory (the fuzz scripts run from the repository
+// root), so the corpus' "../meshes/box.obj" works and no clone's own path reaches the target: two
+// clones then fuzz the same inputs. Anything may fail with an Error; nothing may crash, leak, hang
+// or trip a sanitizer.
 
 #include <cstddef>
 #include <cstdint>
@@ -11,7 +13,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  const std::string base = std::string(HYDROTEX_SOURCE_DIR) + "/data/scenes";
+  const std::string base = "data/scenes";
   hydrotex::Expected<hydrotex::bullet::Scene> scene = hydrotex::bullet::parseScene(text, base, "fuzz.json");
   if (!scene) return 0;
   (void)scene->validate();
