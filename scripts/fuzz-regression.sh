@@ -4,11 +4,12 @@
 #     found so far, named after what it found), and
 #  2. runs a fixed number of generated inputs from a fixed seed, mutating that corpus
 #     (-runs, not a time), with nothing written back.
-# The corpus is handed over as a sorted list of files (-seed_inputs) and nothing else, and the
-# targets run without address-space randomisation (setarch -R): libFuzzer learns from the values
-# the code compares, pointers among them, so with ASLR the same seed took other paths from run to
-# run. So two clones of one commit run the same inputs in the same order and get the same answer on
-# any machine, however fast (the runs from the repository root: no clone's path reaches a target). Exploratory fuzzing (random seed, for a time) is scripts/fuzz.sh, by hand.
+# libFuzzer learns from the values the code compares, pointers among them, so one seed takes the
+# same paths only where every address is the same: the targets run without address-space
+# randomisation (setarch -R), in a fixed environment (the stack sits below it), from the repository
+# root with relative paths (no clone's path reaches a target), and the corpus is handed over as a
+# sorted list of files (-seed_inputs) and nothing else. So two clones of one commit run the same
+# inputs in the same order and get the same answer on any machine, however fast. Exploratory fuzzing (random seed, for a time) is scripts/fuzz.sh, by hand.
 # A crash, leak, sanitizer report, timeout or out-of-memory fails the run and leaves the input in
 # build-fuzz/artifacts/ (reproduce with: build-fuzz/fuzz/<target> <file>).
 set -euo pipefail
@@ -31,7 +32,7 @@ for target in "${fuzz_targets[@]}"; do
   corpus=fuzz/corpus/${target#fuzz_}
   mapfile -t inputs < <(find "$corpus" -maxdepth 1 -type f | LC_ALL=C sort)
   echo "fuzz-regression: $target replays ${#inputs[@]} kept inputs"
-  if ! "$binary" "${fuzz_limits[@]}" -artifact_prefix=build-fuzz/artifacts/"$target"- "${inputs[@]}" \
+  if ! "${fuzz_environment[@]}" "$binary" "${fuzz_limits[@]}" -artifact_prefix=build-fuzz/artifacts/"$target"- "${inputs[@]}" \
        >build-fuzz/"$target"-replay.log 2>&1; then
     tail -n 40 build-fuzz/"$target"-replay.log >&2
     echo "fuzz-regression: $target failed on a kept input (log: build-fuzz/$target-replay.log)" >&2
@@ -41,7 +42,7 @@ for target in "${fuzz_targets[@]}"; do
   runs=${generated_runs[$target]}
   echo "fuzz-regression: $target runs $runs generated inputs from seed $seed"
   seed_list=$(IFS=,; echo "${inputs[*]}")
-  if ! "${fixed_layout[@]}" "$binary" "${fuzz_limits[@]}" -seed="$seed" -runs="$runs" -seed_inputs="$seed_list" -print_final_stats=1 \
+  if ! "${fuzz_environment[@]}" "${fixed_layout[@]}" "$binary" "${fuzz_limits[@]}" -seed="$seed" -runs="$runs" -seed_inputs="$seed_list" -print_final_stats=1 \
        -artifact_prefix=build-fuzz/artifacts/"$target"- >build-fuzz/"$target"-generated.log 2>&1; then
     grep -v '^#[0-9]' build-fuzz/"$target"-generated.log | tail -n 60 >&2
     echo "fuzz-regression: $target failed on a generated input (log: build-fuzz/$target-generated.log)" >&2
