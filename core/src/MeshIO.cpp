@@ -332,7 +332,7 @@ Status MeshLoadSettings::validate() const {
   if (!(std::isfinite(scale) && scale > 0.0))
     return Error{"scale " + std::to_string(scale) + " must be a finite number > 0 (metres per file unit)"};
   if (up != UpAxis::Y && up != UpAxis::Z) return Error{"up axis must be y or z"};
-  return Ok{};
+  return repair.validate();
 }
 
 Status toHydrotexFrame(Mesh& mesh, const MeshLoadSettings& settings) {
@@ -348,11 +348,14 @@ Status toHydrotexFrame(Mesh& mesh, const MeshLoadSettings& settings) {
   return Ok{};
 }
 
-Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings) {
+Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings, RepairReport* repairs) {
   if (Status valid = settings.validate(); !valid) return Error{path + ": " + valid.error().message};
   Expected<Mesh> mesh = loadMesh(path);
   if (!mesh) return mesh;
   if (Status framed = toHydrotexFrame(*mesh, settings); !framed) return framed.error();
+  Expected<RepairReport> repaired = repairMesh(*mesh, settings.repair);
+  if (!repaired) return Error{path + ": " + repaired.error().message};
+  if (repairs != nullptr) *repairs = std::move(repaired).value();
   return mesh;
 }
 

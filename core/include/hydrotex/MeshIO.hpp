@@ -10,6 +10,7 @@
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Mesh.hpp"
+#include "hydrotex/MeshRepair.hpp"
 
 namespace hydrotex {
 
@@ -54,6 +55,8 @@ struct MeshLoadSettings {
   /// Metres per file unit, for files that declare no unit (OBJ, STL, PLY); applied after the unit
   /// a file declares itself (COLLADA's <unit>, which assimp applies while reading). > 0, finite.
   double scale = 1.0;
+  /// Repairs applied after the conversion (MeshRepair.hpp); `repair.enabled = false` loads as is.
+  RepairSettings repair;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
 };
@@ -64,8 +67,11 @@ struct MeshLoadSettings {
 /// sourceName).
 Status toHydrotexFrame(Mesh& mesh, const MeshLoadSettings& settings);
 
-/// loadMesh(path) followed by toHydrotexFrame(settings).
-Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings);
+/// loadMesh(path), toHydrotexFrame(settings), then repairMesh(settings.repair). What was
+/// repaired and what could not be is written to `repairs` when given: defects left do not fail
+/// the load (inspect shows them); a caller that needs a closed body refuses with
+/// RepairReport::requireRepaired.
+Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings, RepairReport* repairs = nullptr);
 
 /// Writes `mesh` (with its UVs when it has them) in the format given by the extension of `path`:
 /// .obj (plus a .mtl beside it), .gltf (plus a .bin), .glb, .ply (ASCII), .stl (binary).
