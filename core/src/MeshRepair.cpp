@@ -63,8 +63,8 @@ void removeTriangles(Mesh& mesh, const std::vector<bool>& drop, bool withUv) {
 }
 
 /// Merges vertices closer than `tolerance` (m) into the first one met; returns how many merged.
-std::size_t weld(Mesh& mesh, double tolerance) {
-  if (!(tolerance > 0.0)) return 0;
+std::size_t weld(Mesh& mesh, const Eigen::Vector3d& lo, double tolerance) {
+  if (!(tolerance > 0.0 && std::isfinite(tolerance))) return 0;
   struct CellHash {
     std::size_t operator()(const Eigen::Vector3i& c) const {
       return static_cast<std::size_t>(c.x()) * 73856093u ^ static_cast<std::size_t>(c.y()) * 19349663u ^
@@ -81,7 +81,8 @@ std::size_t weld(Mesh& mesh, double tolerance) {
   const double inverseCell = 1.0 / tolerance;
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     const Eigen::Vector3d& p = mesh.positions[v];
-    const Eigen::Vector3d scaled = p * inverseCell;
+    // From the lower corner: cell indices stay below diagonal / tolerance (1e7 by default).
+    const Eigen::Vector3d scaled = (p - lo) * inverseCell;
     const Eigen::Vector3i cell(static_cast<int>(std::floor(scaled.x())), static_cast<int>(std::floor(scaled.y())),
                                static_cast<int>(std::floor(scaled.z())));
     int found = -1;
@@ -281,6 +282,8 @@ Expected<RepairReport> repairMesh(Mesh& mesh, const RepairSettings& settings) {
     for (int c = 0; c < 3; ++c)
       if (t[c] < 0 || static_cast<std::size_t>(t[c]) >= mesh.positions.size())
         return Error{"a triangle indexes a missing vertex; nothing to repair from"};
+  for (const Eigen::Vector3d& p : mesh.positions)
+    if (!p.allFinite()) return Error{"a vertex is not finite; nothing to repair from"};
   const bool withUv = mesh.hasUvs();
   Eigen::Vector3d lo = mesh.positions.front(), hi = lo;
   for (const Eigen::Vector3d& p : mesh.positions) {
@@ -289,7 +292,7 @@ Expected<RepairReport> repairMesh(Mesh& mesh, const RepairSettings& settings) {
   }
   const double diagonal = (hi - lo).norm();
 
-  report.verticesWelded = weld(mesh, settings.weldFraction * diagonal);
+  report.verticesWelded = weld(mesh, lo, settings.weldFraction * diagonal);
   report.trianglesDropped = dropDegenerate(mesh, withUv);
   std::size_t nonOrientable = 0;
   report.trianglesReoriented = orientConsistently(mesh, withUv, nonOrientable);
