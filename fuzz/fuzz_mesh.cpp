@@ -14,6 +14,7 @@
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/MassProperties.hpp"
 #include "hydrotex/MeshIO.hpp"
+#include "hydrotex/MeshRepair.hpp"
 #include "hydrotex/MeshValidation.hpp"
 #include "hydrotex/PolyhedralHydrostatics.hpp"
 #include "hydrotex/TextureHydrostatics.hpp"
@@ -64,6 +65,13 @@ void exercise(hydrotex::Mesh mesh) {
   using namespace hydrotex;
   const MeshReport report = validateMesh(mesh);
   (void)report.summary();
+  // The repair every loading path runs (MeshLoadSettings), then the exact mass of its result.
+  Mesh repaired = mesh;
+  if (const Expected<RepairReport> repairs = repairMesh(repaired, RepairSettings{})) {
+    (void)repairs->summary();
+    (void)validateMesh(repaired, false);
+    (void)polyhedralMassProperties(repaired, 1000.0);
+  }
   (void)countEdgeTopology(mesh);
   const Expected<MassProperties> exact = polyhedralMassProperties(mesh, 1000.0);
   const FlatSurface water(0.0, 1000.0);

@@ -28,9 +28,14 @@ Expected<BodyGeometry> prepareBodyGeometry(Mesh mesh, const BodyGeometrySettings
 }
 
 Expected<BodyGeometry> loadBodyGeometry(const std::string& path, const BodyGeometrySettings& settings) {
-  Expected<Mesh> mesh = loadMesh(path);
+  RepairReport repairs;
+  Expected<Mesh> mesh = loadMesh(path, settings.load, &repairs);
   if (!mesh) return mesh.error();
-  return prepareBodyGeometry(std::move(mesh).value(), settings);
+  if (settings.requireClosed)
+    if (Status repaired = repairs.requireRepaired(mesh->sourceName); !repaired) return repaired.error();
+  Expected<BodyGeometry> body = prepareBodyGeometry(std::move(mesh).value(), settings);
+  if (body) body->repairs = std::move(repairs);
+  return body;
 }
 
 }  // namespace hydrotex

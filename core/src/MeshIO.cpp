@@ -321,6 +321,44 @@ Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std
   return convertScene(**scene, name);
 }
 
+Expected<UpAxis> upAxisFromName(std::string_view name) {
+  const std::string lower = detail::lowered(std::string(name));
+  if (lower == "y") return UpAxis::Y;
+  if (lower == "z") return UpAxis::Z;
+  return Error{"up axis '" + std::string(name) + "' is not y or z"};
+}
+
+Status MeshLoadSettings::validate() const {
+  if (!(std::isfinite(scale) && scale > 0.0))
+    return Error{"scale " + std::to_string(scale) + " must be a finite number > 0 (metres per file unit)"};
+  if (up != UpAxis::Y && up != UpAxis::Z) return Error{"up axis must be y or z"};
+  return repair.validate();
+}
+
+Status toHydrotexFrame(Mesh& mesh, const MeshLoadSettings& settings) {
+  const std::string name = mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName;
+  if (Status valid = settings.validate(); !valid) return Error{name + ": " + valid.error().message};
+  for (Eigen::Vector3d& p : mesh.positions) {
+    // z up -> y up: the file's +z becomes +y and its +y becomes -z (right-handed, det = +1).
+    if (settings.up == UpAxis::Z) p = Eigen::Vector3d(p.x(), p.z(), -p.y());
+    p *= settings.scale;
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxMeshCoordinate))
+      return Error{name + ": a vertex lies beyond 1e12 m after scaling by " + std::to_string(settings.scale)};
+  }
+  return Ok{};
+}
+
+Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings, RepairReport* repairs) {
+  if (Status valid = settings.validate(); !valid) return Error{path + ": " + valid.error().message};
+  Expected<Mesh> mesh = loadMesh(path);
+  if (!mesh) return mesh;
+  if (Status framed = toHydrotexFrame(*mesh, settings); !framed) return framed.error();
+  Expected<RepairReport> repaired = repairMesh(*mesh, settings.repair);
+  if (!repaired) return Error{path + ": " + repaired.error().message};
+  if (repairs != nullptr) *repairs = std::move(repaired).value();
+  return mesh;
+}
+
 Status saveMesh(const Mesh& mesh, const std::string& path) {
   const std::string format = exportFormatFor(std::filesystem::path(path).extension().string());
   if (format.empty()) return fileError(path, "unknown mesh extension (use .obj, .gltf, .glb, .ply or .stl)");

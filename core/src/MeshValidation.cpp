@@ -4,6 +4,8 @@
 
 #include "hydrotex/MeshValidation.hpp"
 
+#include "hydrotex/MeshParts.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -262,9 +264,16 @@ MeshReport validateMesh(const Mesh& mesh, bool checkUvs) {
   report.nonManifoldEdges = topology.nonManifoldEdges;
   report.inconsistentEdges = topology.inconsistentEdges;
   report.watertight = !mesh.triangles.empty() && topology.closed();
+  const std::vector<MeshPart> parts = findMeshParts(mesh);
+  report.parts = parts.size();
+  for (const MeshPart& part : parts)
+    if (part.insideOut()) {
+      ++report.insideOutParts;
+      report.insideOutVolume += std::abs(part.signedVolume);
+    }
   if (report.watertight) {
     report.volume = signedVolume;
-    report.outwardOriented = signedVolume > 0.0;
+    report.outwardOriented = signedVolume > 0.0 && report.insideOutParts == 0;
   }
 
   if (!checkUvs) return report;
@@ -330,7 +339,8 @@ std::string MeshReport::summary() const {
   out << "degenerate triangles: " << degenerateTriangles << "\n";
   out << "watertight: " << (watertight ? "yes" : "no") << " (boundary edges " << boundaryEdges
       << ", non-manifold edges " << nonManifoldEdges << ", inconsistently oriented edges " << inconsistentEdges << ")\n";
-  out << "outward oriented: " << (outwardOriented ? "yes" : "no") << "\n";
+  out << "outward oriented: " << (outwardOriented ? "yes" : "no") << " (parts " << parts << ", inside out "
+      << insideOutParts << ")\n";
   out << "area: " << area << " m^2\n";
   out << "volume: ";
   if (volume) out << *volume << " m^3\n";
@@ -360,6 +370,10 @@ Status requireClosed(const MeshReport& report, const std::string& what) {
     if (std::abs(volume) <= kDegenerateRelativeTolerance * extent * extent * extent)
       return Error{what + ": mesh encloses no volume (" + std::to_string(volume) +
                    " m^3: flat or degenerate); volume and buoyancy need a solid"};
+    if (report.insideOutParts > 0 && volume > 0.0)
+      return Error{what + ": " + std::to_string(report.insideOutParts) + " of the mesh's " + std::to_string(report.parts) +
+                   " parts are inside out (" + std::to_string(report.insideOutVolume) +
+                   " m^3 counted negative); load it with repair on (drop --no-repair) or flip those parts"};
     return Error{what + ": mesh is inside out (negative volume); flip the winding of every triangle"};
   }
   return Ok{};

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "hydrotex/MassProperties.hpp"
+#include "hydrotex/MeshParts.hpp"
 #include "hydrotex/MeshValidation.hpp"
 
 namespace hydrotex {
@@ -49,6 +50,14 @@ Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double densi
       if (mesh.triangles[t][k] < 0 || mesh.triangles[t][k] >= vertexCount)
         return Error{name + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
   if (Status closed = checkClosed(mesh, name); !closed) return closed.error();
+  // A closed mesh with one part inside out sums to a plausible positive volume but a centre of
+  // mass and inertia that are wrong (negative diagonal terms): refuse it (repairMesh turns it).
+  std::size_t insideOut = 0;
+  for (const MeshPart& part : findMeshParts(mesh)) insideOut += part.insideOut() ? 1 : 0;
+  if (insideOut > 0)
+    return Error{name + ": " + std::to_string(insideOut) +
+                 " closed parts are inside out (negative volume outside any other part); repair the mesh "
+                 "(repairMesh, or drop --no-repair) or flip those parts"};
 
   // Integrate about the bounding-box centre: the products below lose fewer digits there.
   Eigen::Vector3d lo = mesh.positions[0], hi = lo;

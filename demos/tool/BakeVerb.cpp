@@ -19,6 +19,7 @@ namespace hydrotex::tool {
 namespace {
 struct BakeOptions {
   std::string meshPath;
+  MeshLoadSettings load;
   int resolution = 256;
   std::string outDir;
   bool json = false;
@@ -41,6 +42,7 @@ std::uint8_t toByte(double unit) { return static_cast<std::uint8_t>(std::lround(
 int runBake(const BakeOptions& options) {
   BodyGeometrySettings settings;
   settings.bake.width = settings.bake.height = options.resolution;
+  settings.load = options.load;
   settings.requireClosed = false;  // a bake is a surface quantity: open meshes bake too
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
   if (!body) return reportError(body.error());
@@ -114,6 +116,7 @@ void addBakeVerb(CLI::App& app, VerbAction& action) {
   CLI::App* verb = addVerb(app, action, "bake", "write the position and vector-area textures as images and float data", options, &runBake);
   verb->add_option("MESH", options->meshPath, "mesh file")->required();
   addResolutionOption(*verb, options->resolution)->required();
+  addMeshLoadOptions(*verb, options->load);
   verb->add_option("--out", options->outDir, "output directory (created)")->required();
 }
 

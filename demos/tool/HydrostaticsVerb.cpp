@@ -16,6 +16,7 @@ namespace hydrotex::tool {
 namespace {
 struct HydrostaticsOptions {
   std::string meshPath;
+  MeshLoadSettings load;
   MethodOptions method;
   Eigen::Vector3d translate = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotateDegrees = Eigen::Vector3d::Zero();
@@ -29,6 +30,7 @@ int runHydrostatics(const HydrostaticsOptions& options) {
   BodyGeometrySettings settings;
   // The exact path needs no bake: the smallest one keeps the shared preparation cheap.
   settings.bake.width = settings.bake.height = options.method.texture() ? options.method.resolution : 16;
+  settings.load = options.load;
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
   if (!body) return reportError(body.error());
 
@@ -91,6 +93,7 @@ void addHydrostaticsVerb(CLI::App& app, VerbAction& action) {
                            options, &runHydrostatics);
   verb->add_option("MESH", options->meshPath, "closed mesh file")->required();
   addMethodOptions(*verb, options->method);
+  addMeshLoadOptions(*verb, options->load);
   addVector3Option(*verb, "--translate", options->translate, "X,Y,Z translation (m), applied after the rotation");
   addVector3Option(*verb, "--rotate-deg", options->rotateDegrees, "RX,RY,RZ extrinsic X then Y then Z (degrees)");
   verb->add_option("--water-level", options->waterLevel, "height H of the water plane y = H (m)")

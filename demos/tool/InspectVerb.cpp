@@ -1,4 +1,4 @@
-// `hydrotex inspect MESH [--json]`
+// `hydrotex inspect MESH [--up y|z] [--scale S] [--no-repair] [--max-hole-fraction F] [--json]`
 
 #include <sstream>
 
@@ -12,11 +12,13 @@ namespace hydrotex::tool {
 namespace {
 struct InspectOptions {
   std::string meshPath;
+  MeshLoadSettings load;
   bool json = false;
 };
 
 int runInspect(const InspectOptions& options) {
-  Expected<Mesh> mesh = loadMesh(options.meshPath);
+  RepairReport repairs;
+  Expected<Mesh> mesh = loadMesh(options.meshPath, options.load, &repairs);
   if (!mesh) return reportError(mesh.error());
   const MeshReport report = validateMesh(*mesh);
 
@@ -35,9 +37,27 @@ int runInspect(const InspectOptions& options) {
   out["volume"] = report.volume ? nlohmann::json(*report.volume) : nlohmann::json(nullptr);
   out["bounds_min"] = toJson(report.boundsMin);
   out["bounds_max"] = toJson(report.boundsMax);
+  out["parts"] = report.parts;
+  out["inside_out_parts"] = report.insideOutParts;
+  out["up"] = options.load.up == UpAxis::Z ? "z" : "y";
+  out["scale"] = options.load.scale;
+  nlohmann::json repaired;
+  repaired["enabled"] = options.load.repair.enabled;
+  repaired["vertices_welded"] = repairs.verticesWelded;
+  repaired["triangles_dropped"] = repairs.trianglesDropped;
+  repaired["triangles_flipped"] = repairs.trianglesReoriented;
+  repaired["parts_flipped"] = repairs.partsFlipped;
+  repaired["flipped_volume"] = repairs.flippedVolume;
+  repaired["uvs_dropped"] = repairs.uvsDropped;
+  repaired["holes_closed"] = nlohmann::json::array();
+  for (const ClosedHole& hole : repairs.holesClosed)
+    repaired["holes_closed"].push_back({{"edges", hole.edges}, {"perimeter", hole.perimeter}, {"area", hole.area}});
+  repaired["not_repaired"] = repairs.unrepaired;
+  out["repairs"] = repaired;
 
   std::ostringstream text;
-  text << options.meshPath << "\n" << report.summary();
+  text << options.meshPath << "\n" << (options.load.repair.enabled ? repairs.summary() : "repairs: off (--no-repair)\n")
+       << report.summary();
   if (!report.summary().empty() && report.summary().back() != '\n') text << "\n";
   printResult(options.json, out, text.str());
   return 0;
@@ -48,6 +68,7 @@ void addInspectVerb(CLI::App& app, VerbAction& action) {
   auto options = std::make_shared<InspectOptions>();
   CLI::App* verb = addVerb(app, action, "inspect", "counts, watertightness, UVs, area, volume and bounds of a mesh", options, &runInspect);
   verb->add_option("MESH", options->meshPath, "mesh file (any format assimp reads)")->required();
+  addMeshLoadOptions(*verb, options->load);
 }
 
 }  // namespace hydrotex::tool

@@ -18,6 +18,7 @@ namespace {
 struct MassOptions {
   std::string meshPath;
   MethodOptions method;
+  MeshLoadSettings load;
   double density = 1000.0;
   std::string densityMapPath;
   std::vector<double> densityRange;
@@ -28,6 +29,7 @@ struct MassOptions {
 Expected<MassProperties> textureMass(const MassOptions& options, std::unique_ptr<ComputeBackend>& backendUsed) {
   BodyGeometrySettings settings;
   settings.bake.width = settings.bake.height = options.method.resolution;
+  settings.load = options.load;
   Expected<BodyGeometry> body = loadBodyGeometry(options.meshPath, settings);
   if (!body) return body.error();
 
@@ -64,9 +66,11 @@ int runMass(const MassOptions& options) {
   Expected<MassProperties> mass = Error{""};
   std::unique_ptr<ComputeBackend> backend;
   if (!options.method.texture()) {
-    Expected<Mesh> mesh = loadMesh(options.meshPath);
+    RepairReport repairs;
+    Expected<Mesh> mesh = loadMesh(options.meshPath, options.load, &repairs);
     if (!mesh) return reportError(mesh.error());
     mesh->sourceName = options.meshPath;  // its messages start with the name: the path, once
+    if (Status repaired = repairs.requireRepaired(options.meshPath); !repaired) return reportError(repaired.error());
     mass = polyhedralMassProperties(*mesh, options.density);
     if (!mass) return reportError(mass.error());
   } else {
@@ -98,6 +102,7 @@ void addMassVerb(CLI::App& app, VerbAction& action) {
                            &runMass);
   verb->add_option("MESH", options->meshPath, "closed mesh file")->required();
   addMethodOptions(*verb, options->method);
+  addMeshLoadOptions(*verb, options->load);
   verb->add_option("--density", options->density, "uniform solid density (kg/m^3)")
       ->check(CLI::PositiveNumber);
   verb->add_option("--density-map", options->densityMapPath, "PNG whose gray level sets the density")

@@ -69,6 +69,25 @@ Expected<BackendBody> registerWithBackend(const std::string& backendName, const 
   return body;
 }
 
+void addMeshLoadOptions(CLI::App& verb, MeshLoadSettings& settings) {
+  verb.add_option_function<std::string>(
+          "--up",
+          [&settings](const std::string& name) {
+            Expected<UpAxis> up = upAxisFromName(name);
+            if (!up) throw CLI::ValidationError("--up", up.error().message);
+            settings.up = *up;
+          },
+          "the file's up axis: y (default) or z (rotated so that +z becomes +y)");
+  verb.add_option("--scale", settings.scale, "metres per file unit (default 1), for files without units")
+      ->check(CLI::PositiveNumber);
+  verb.add_flag_callback(
+      "--no-repair", [&settings] { settings.repair.enabled = false; },
+      "refuse a defective mesh instead of repairing it (welds, flipped faces or parts, small holes)");
+  verb.add_option("--max-hole-fraction", settings.repair.maxHoleFraction,
+                  "repair closes boundary loops up to this fraction of the bounding-box diagonal (default 0.1)")
+      ->check(CLI::NonNegativeNumber);
+}
+
 void addMethodOptions(CLI::App& verb, MethodOptions& options) {
   verb.add_option("--method", options.method, "exact (polyhedral) or texture (default)")
       ->check(CLI::IsMember({"exact", "texture"}));

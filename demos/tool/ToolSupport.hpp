@@ -10,6 +10,7 @@
 #include "Verbs.hpp"
 #include "hydrotex/ComputeBackend.hpp"
 #include "hydrotex/Expected.hpp"
+#include "hydrotex/MeshIO.hpp"
 
 namespace hydrotex::tool {
 
@@ -33,6 +34,10 @@ struct MethodOptions {
   /// apply: the exact path has no resolution and runs on no backend).
   void addTo(nlohmann::json& out, const ComputeBackend* backend) const;
 };
+
+/// Adds `--up y|z`, `--scale S`, `--no-repair` and `--max-hole-fraction F`: how the verb's mesh
+/// file becomes a body (MeshLoadSettings).
+void addMeshLoadOptions(CLI::App& verb, MeshLoadSettings& settings);
 
 /// Adds `--method exact|texture`, `--resolution N` and `--backend cpu|gpu`.
 void addMethodOptions(CLI::App& verb, MethodOptions& options);

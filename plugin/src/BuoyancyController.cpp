@@ -163,8 +163,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (settings.mesh) {
     floating->mesh = settings.mesh;
   } else {
-    Expected<Mesh> loaded = loadMesh(settings.meshPath);
+    RepairReport repairs;
+    Expected<Mesh> loaded = loadMesh(settings.meshPath, settings.load, &repairs);
     if (!loaded) return loaded.error();
+    if (Status repaired = repairs.requireRepaired(loaded->sourceName); !repaired) return repaired.error();
     floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
   }
   const Mesh& mesh = *floating->mesh;

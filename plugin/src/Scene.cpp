@@ -316,6 +316,15 @@ Expected<WettingBodySettings> parseWetting(const Json& json, const std::string& 
   return wetting;
 }
 
+/// A scene body's mesh file with its axes, scale and repairs; a defect left unrepaired is refused.
+Expected<Mesh> loadSceneMesh(const SceneBody& body) {
+  RepairReport repairs;
+  Expected<Mesh> loaded = loadMesh(body.meshPath, body.load, &repairs);
+  if (!loaded) return loaded;
+  if (Status repaired = repairs.requireRepaired(loaded->sourceName); !repaired) return repaired.error();
+  return loaded;
+}
+
 Expected<SceneBody> parseBody(const Json& json, const std::string& path, const std::string& source,
                               const std::string& baseDirectory) {
   if (!json.is_object()) return Error{source + ": " + path + ": expected an object"};
@@ -329,6 +338,19 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
   std::error_code ec;
   if (!std::filesystem::is_regular_file(meshPath, ec)) return reader.error("mesh", meshPath.string() + ": no such file");
   body.meshPath = meshPath.string();
+  std::string up = "y";
+  HYDROTEX_TRY(reader.string("up", up));
+  Expected<UpAxis> upAxis = upAxisFromName(up);
+  if (!upAxis) return reader.error("up", "'" + up + "' is not y or z");
+  body.load.up = *upAxis;
+  HYDROTEX_TRY(reader.number("scale", body.load.scale));
+  if (!(body.load.scale > 0.0)) return reader.error("scale", "must be > 0 (metres per file unit)");
+  if (const Json* repair = reader.find("repair")) {
+    if (!repair->is_boolean()) return reader.error("repair", "expected true or false");
+    body.load.repair.enabled = repair->get<bool>();
+  }
+  HYDROTEX_TRY(reader.number("max_hole_fraction", body.load.repair.maxHoleFraction));
+  if (Status valid = body.load.repair.validate(); !valid) return reader.error("max_hole_fraction", valid.error().message);
   HYDROTEX_TRY(reader.optionalNumber("density", body.density));
   HYDROTEX_TRY(reader.optionalNumber("mass", body.mass));
   HYDROTEX_TRY(reader.vector<3>("position", body.position));
@@ -616,11 +638,15 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     const std::string prefix = scene.sourceName + ": bodies[" + std::to_string(i) + "]: ";
     std::shared_ptr<const Mesh> mesh = sceneBody.mesh;
     if (!mesh) {
-      auto cached = meshCache.find(sceneBody.meshPath);
+      // The same file read with other axes, scale or repairs is another mesh.
+      const MeshLoadSettings& load = sceneBody.load;
+      const std::string key = sceneBody.meshPath + (load.up == UpAxis::Z ? "|z|" : "|y|") + std::to_string(load.scale) +
+                              (load.repair.enabled ? "|repair|" : "|as-is|") + std::to_string(load.repair.maxHoleFraction);
+      auto cached = meshCache.find(key);
       if (cached == meshCache.end()) {
-        Expected<Mesh> loaded = loadMesh(sceneBody.meshPath);
+        Expected<Mesh> loaded = loadSceneMesh(sceneBody);
         if (!loaded) return Error{prefix + loaded.error().message};
-        cached = meshCache.emplace(sceneBody.meshPath, std::make_shared<const Mesh>(std::move(loaded).value())).first;
+        cached = meshCache.emplace(key, std::make_shared<const Mesh>(std::move(loaded).value())).first;
       }
       mesh = cached->second;
     }
@@ -673,7 +699,7 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     const std::string prefix = scene.sourceName + ": soft body '" + sceneBody.name + "': ";
     std::shared_ptr<const Mesh> mesh = sceneBody.mesh;
     if (!mesh) {
-      Expected<Mesh> loaded = loadMesh(sceneBody.meshPath);
+      Expected<Mesh> loaded = loadSceneMesh(sceneBody);
       if (!loaded) return Error{prefix + loaded.error().message};
       mesh = std::make_shared<const Mesh>(std::move(loaded).value());
     }

@@ -372,3 +372,48 @@ TEST_CASE("A million-triangle mesh loads", "[meshio][large]") {
   // Area 177 x 177 m^2; sums of exact quarter-metre squares: exact in double.
   CHECK(report.area == Approx(177.0 * 177.0).epsilon(1e-12));
 }
+
+TEST_CASE("loadMesh with MeshLoadSettings: a z-up file equals its y-up twin, --scale scales", "[mesh_io][axes]") {
+  // The same box (0..1, 0..2, 0..3 in y-up metres) written twice: y up as it is, and z up in
+  // centimetres, i.e. a y-up point (x, y, z) stored as (x, -z, y) * 100.
+  const std::string yUp = outputPath("axes_y_up.obj");
+  const std::string zUpCm = outputPath("axes_z_up_cm.obj");
+  const double xs[2] = {0, 1}, ys[2] = {0, 2}, zs[2] = {0, 3};
+  std::string objY, objZ;
+  for (int i = 0; i < 8; ++i) {
+    const double x = xs[i & 1], y = ys[(i >> 1) & 1], z = zs[(i >> 2) & 1];
+    objY += "v " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + "\n";
+    objZ += "v " + std::to_string(100 * x) + " " + std::to_string(-100 * z) + " " + std::to_string(100 * y) + "\n";
+  }
+  // Counter-clockwise from outside in the y-up frame (corner i = x + 2y + 4z, 1-based in OBJ).
+  const std::string faces = "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  writeText(yUp, objY + faces);
+  writeText(zUpCm, objZ + faces);
+
+  const auto reference = hydrotex::loadMesh(yUp, hydrotex::MeshLoadSettings{});
+  REQUIRE(reference);
+  hydrotex::MeshLoadSettings settings;
+  settings.up = hydrotex::UpAxis::Z;
+  settings.scale = 0.01;
+  const auto converted = hydrotex::loadMesh(zUpCm, settings);
+  REQUIRE(converted);
+  REQUIRE(converted->positions.size() == reference->positions.size());
+  REQUIRE(converted->triangles == reference->triangles);
+  // Tolerance: the OBJ stores 6 decimals of centimetres, i.e. 1e-8 m, times 0.01 in doubles.
+  for (std::size_t i = 0; i < reference->positions.size(); ++i)
+    CHECK((converted->positions[i] - reference->positions[i]).norm() < 1e-9);
+  // The rotation keeps the winding outward: the converted box encloses +6 m^3 (closed form 1*2*3).
+  const hydrotex::MeshReport report = hydrotex::validateMesh(*converted, false);
+  REQUIRE(report.volume);
+  CHECK(*report.volume == Approx(6.0).epsilon(1e-12));
+
+  SECTION("bad settings are one line naming the value") {
+    settings.scale = 0.0;
+    const auto refused = hydrotex::loadMesh(zUpCm, settings);
+    REQUIRE_FALSE(refused);
+    CHECK(refused.error().message.find("scale") != std::string::npos);
+    CHECK(refused.error().message.find('\n') == std::string::npos);
+    CHECK_FALSE(hydrotex::upAxisFromName("x"));
+    CHECK(*hydrotex::upAxisFromName("Z") == hydrotex::UpAxis::Z);
+  }
+}

@@ -211,9 +211,11 @@ TEST_CASE("bad mesh files: the API returns one line naming the file", "[robustne
     CHECK(fromMemory.ok() == mesh.ok());
     if (!fromMemory) checkMessage(fromMemory.error().message, bad.file, "");
 
-    // Everything that needs a volume refuses it, naming the file.
+    // Everything that needs a volume refuses it as it is (repair off; repairs: the next cases),
+    // naming the file.
     BodyGeometrySettings settings;
     settings.bake.width = settings.bake.height = 32;
+    settings.load.repair.enabled = false;
     const Expected<BodyGeometry> body = loadBodyGeometry(path, settings);
     REQUIRE_FALSE(body.ok());
     checkMessage(body.error().message, bad.file, bad.reason);
@@ -286,6 +288,33 @@ TEST_CASE("a PLY face the reader skips does not abort the import", "[robustness]
 }
 
 #ifdef HYDROTEX_TOOL_PATH
+TEST_CASE("with repair on, flipped tetrahedra load and the rest is refused naming the defect", "[robustness][bad-input][mesh][repair]") {
+  using hydrotex::test::requireCleanFailure;
+  using hydrotex::test::runTool;
+  for (const BadMesh& bad : badMeshes()) {
+    if (!bad.loads) continue;
+    CAPTURE(bad.file);
+    const std::string path = writeScratch(bad.file, bad.content);
+    BodyGeometrySettings settings;
+    settings.bake.width = settings.bake.height = 32;
+    const Expected<BodyGeometry> body = loadBodyGeometry(path, settings);
+    if (bad.file == "robust_inverted.obj" || bad.file == "robust_one_flipped.obj") {
+      // The unit tetrahedron (corners at the origin and the unit axes): volume 1/6, exact in doubles
+      // up to rounding of a few products (1e-12 relative).
+      REQUIRE(body.ok());
+      CHECK(*body->report.volume == Approx(1.0 / 6.0).epsilon(1e-12));
+      CHECK(body->repairs.changed());
+      continue;
+    }
+    REQUIRE_FALSE(body.ok());
+    checkMessage(body.error().message, bad.file, "");
+    // The repair names what it could not fix; the flat and collinear ones are caught after it.
+    if (bad.file == "robust_open.obj") checkMessage(body.error().message, bad.file, "open hull: a boundary loop of");
+    if (bad.file == "robust_non_manifold.obj") checkMessage(body.error().message, bad.file, "non-manifold");
+    requireCleanFailure(runTool("mass --method exact " + path, 120), bad.file);
+  }
+}
+
 TEST_CASE("bad mesh files: the tool exits non-zero with one line naming the file", "[robustness][bad-input][mesh][tool]") {
   using hydrotex::test::requireCleanFailure;
   using hydrotex::test::runTool;
@@ -294,7 +323,8 @@ TEST_CASE("bad mesh files: the tool exits non-zero with one line naming the file
     CAPTURE(bad.file);
     const std::string path = writeScratch(bad.file, bad.content);
     for (const std::string verb :
-         {"mass --resolution 32", "mass --method exact", "hydrostatics --resolution 32", "hydrostatics --method exact"}) {
+         {"mass --resolution 32 --no-repair", "mass --method exact --no-repair", "hydrostatics --resolution 32 --no-repair",
+          "hydrostatics --method exact --no-repair"}) {
       CAPTURE(verb);
       const test::ToolRun run = runTool(verb + " " + path, 120);
       requireCleanFailure(run, bad.file);
@@ -305,7 +335,7 @@ TEST_CASE("bad mesh files: the tool exits non-zero with one line naming the file
     const test::ToolRun bake = runTool("bake --resolution 32 --out " + bakeOut + " " + path, 120);
     if (!bad.loads || bake.exitCode != 0) requireCleanFailure(bake, bad.file);
     // inspect reports what it can: files that load are described (not refused), others fail cleanly.
-    const test::ToolRun inspect = runTool("inspect " + path + " --json", 120);
+    const test::ToolRun inspect = runTool("inspect " + path + " --json --no-repair", 120);
     if (bad.loads) {
       REQUIRE(inspect.exitCode == 0);
       const auto json = nlohmann::json::parse(inspect.out);

@@ -147,3 +147,86 @@ TEST_CASE("bad input gets one line and a non-zero exit", "[tool][bad-input]") {
   requireCleanFailure(runTool("frobnicate " + kBox), "frobnicate");
   requireCleanFailure(runTool("mass " + kBox + " --backend quantum"), "backend");
 }
+
+namespace {
+/// OBJ of a 2 m cube at the origin and a 1 m cube at x = 3..4 written inside out (the RexROV's
+/// defect: closed, positive total volume 8 - 1 = 7, one part inside out).
+std::string twoBoxesOneInsideOut() {
+  std::string obj = "# a box and an inside-out box\n";
+  for (int part = 0; part < 2; ++part)
+    for (int i = 0; i < 8; ++i) {
+      const double size = part == 0 ? 2.0 : 1.0, shift = part == 0 ? 0.0 : 3.0;
+      obj += "v " + std::to_string(size * (i & 1) + shift) + " " + std::to_string(size * ((i >> 1) & 1)) + " " +
+             std::to_string(size * ((i >> 2) & 1)) + "\n";
+    }
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";  // outward
+  obj += "f 10 12 11 9\nf 15 16 14 13\nf 13 14 10 9\nf 12 16 15 11\nf 11 15 13 9\nf 14 16 12 10\n";  // inward
+  return obj;
+}
+}  // namespace
+
+TEST_CASE("an inside-out part: inspect says so, mass repairs it, --no-repair refuses", "[tool][repair]") {
+  const std::string path = writeScratch("two_boxes_one_inside_out.obj", twoBoxesOneInsideOut());
+  const ToolRun asIs = runTool("inspect " + path + " --no-repair --json");
+  REQUIRE(asIs.exitCode == 0);
+  const auto before = nlohmann::json::parse(asIs.out);
+  CHECK(before["watertight"] == true);
+  CHECK(before["outward_oriented"] == false);
+  CHECK(before["inside_out_parts"] == 1);
+
+  const ToolRun repaired = runTool("inspect " + path + " --json");
+  REQUIRE(repaired.exitCode == 0);
+  const auto after = nlohmann::json::parse(repaired.out);
+  CHECK(after["outward_oriented"] == true);
+  CHECK(after["repairs"]["parts_flipped"] == 1);
+  // The OBJ's coordinates are small integers, exact in float: volumes exact up to rounding.
+  CHECK(after["repairs"]["flipped_volume"].get<double>() == Approx(1.0).epsilon(1e-12));
+  CHECK(after["volume"].get<double>() == Approx(9.0).epsilon(1e-12));
+  const ToolRun text = runTool("inspect " + path);
+  CHECK(text.out.find("parts turned right side out: 1") != std::string::npos);
+
+  // Closed form: V = 8 + 1, centre x = (8 * 1 + 1 * 3.5) / 9, y = z = (8 * 1 + 1 * 0.5) / 9.
+  const ToolRun mass = runTool("mass " + path + " --method exact --json");
+  REQUIRE(mass.exitCode == 0);
+  const auto props = nlohmann::json::parse(mass.out);
+  CHECK(props["volume"].get<double>() == Approx(9.0).epsilon(1e-12));
+  CHECK(props["center_of_mass"][0].get<double>() == Approx(11.5 / 9.0).epsilon(1e-12));
+  CHECK(props["center_of_mass"][1].get<double>() == Approx(8.5 / 9.0).epsilon(1e-12));
+  for (int i = 0; i < 3; ++i) CHECK(props["inertia"][i][i].get<double>() > 0.0);
+
+  requireCleanFailure(runTool("mass " + path + " --method exact --no-repair"), "inside out");
+  requireCleanFailure(runTool("mass " + path + " --method texture --resolution 32 --no-repair"), "inside out");
+}
+
+TEST_CASE("--up z and --scale: a z-up file in centimetres gives the y-up metre answer", "[tool][axes]") {
+  // The unit box written z up in centimetres: y-up (x, y, z) stored as 100 * (x, -z, y).
+  std::string obj;
+  for (int i = 0; i < 8; ++i) {
+    const int x = i & 1, y = (i >> 1) & 1, z = (i >> 2) & 1;
+    obj += "v " + std::to_string(100 * x) + " " + std::to_string(-100 * z) + " " + std::to_string(100 * y) + "\n";
+  }
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  const std::string path = writeScratch("box_z_up_cm.obj", obj);
+  const ToolRun run = runTool("inspect " + path + " --up z --scale 0.01 --json");
+  REQUIRE(run.exitCode == 0);
+  const auto json = nlohmann::json::parse(run.out);
+  CHECK(json["up"] == "z");
+  CHECK(json["outward_oriented"] == true);
+  CHECK(json["volume"].get<double>() == Approx(1.0).epsilon(1e-12));
+  for (int i = 0; i < 3; ++i) {
+    CHECK(json["bounds_min"][i].get<double>() == Approx(0.0).margin(1e-12));
+    CHECK(json["bounds_max"][i].get<double>() == Approx(1.0).epsilon(1e-12));
+  }
+  requireCleanFailure(runTool("inspect " + path + " --up x"), "--up");
+}
+
+TEST_CASE("a hole too large to close is refused with one line naming it", "[tool][repair][bad-input]") {
+  // The unit cube without its top face: a 4 m loop against the 1.73 m diagonal.
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n";
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 1 5 7 3\nf 2 4 8 6\n";
+  const std::string path = writeScratch("open_top_box.obj", obj);
+  requireCleanFailure(runTool("mass " + path + " --method exact"), "open hull: a boundary loop of 4 m");
+  const ToolRun closed = runTool("mass " + path + " --method exact --max-hole-fraction 3 --json");
+  REQUIRE(closed.exitCode == 0);
+  CHECK(nlohmann::json::parse(closed.out)["volume"].get<double>() == Approx(1.0).epsilon(1e-12));
+}

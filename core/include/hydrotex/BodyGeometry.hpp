@@ -9,6 +9,8 @@
 #include "hydrotex/Atlas.hpp"
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Mesh.hpp"
+#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/MeshRepair.hpp"
 #include "hydrotex/MeshValidation.hpp"
 #include "hydrotex/SurfaceBake.hpp"
 
@@ -16,7 +18,8 @@ namespace hydrotex {
 
 /// A body's baked geometry (read-only once prepared; per-step state lives elsewhere).
 struct BodyGeometry {
-  Mesh mesh;                 ///< as loaded (m), artist UVs untouched
+  Mesh mesh;                 ///< as loaded (m) and repaired; artist UVs untouched unless a repair dropped them
+  RepairReport repairs;      ///< what loadBodyGeometry repaired (empty from prepareBodyGeometry)
   MeshReport report;         ///< validation findings
   PhysicsAtlas atlas;        ///< the UV layout the physics bakes with (artist's or generated)
   SurfaceBake bake;          ///< exact texel pieces
@@ -27,6 +30,7 @@ struct BodyGeometry {
 struct BodyGeometrySettings {
   BakeSettings bake;           ///< resolution and tile size
   bool requireClosed = true;   ///< volume and buoyancy need a closed mesh; drag or wetting alone do not
+  MeshLoadSettings load;       ///< axes, units and repairs of loadBodyGeometry (repair on by default)
 };
 
 /// Validates `mesh`, picks or generates its physics atlas, bakes and evaluates the textures.
@@ -34,7 +38,9 @@ struct BodyGeometrySettings {
 /// `requireClosed`, an inward-oriented mesh (the message says to flip it).
 Expected<BodyGeometry> prepareBodyGeometry(Mesh mesh, const BodyGeometrySettings& settings);
 
-/// loadMesh(path) followed by prepareBodyGeometry; every message starts with the file name.
+/// loadMesh(path, settings.load) followed by prepareBodyGeometry; with `requireClosed`, a defect
+/// the repair could not fix is refused first (RepairReport::requireRepaired). Every message
+/// starts with the file name.
 Expected<BodyGeometry> loadBodyGeometry(const std::string& path, const BodyGeometrySettings& settings);
 
 }  // namespace hydrotex

@@ -6,9 +6,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Mesh.hpp"
+#include "hydrotex/MeshRepair.hpp"
 
 namespace hydrotex {
 
@@ -36,6 +38,40 @@ Expected<Mesh> loadMesh(const std::string& path);
 /// self-contained one (.glb). Same errors as loadMesh.
 Expected<Mesh> loadMeshFromMemory(const void* bytes, std::size_t size, const std::string& formatHint,
                                   const std::string& name);
+
+/// The axis a mesh file calls up. hydrotex is y up (gravity along -y).
+enum class UpAxis {
+  Y,  ///< y up: coordinates are kept
+  Z,  ///< z up (CAD, ROS, most naval tools): (x, y, z) -> (x, z, -y), a right-handed rotation of -90 degrees about x
+};
+
+/// The axis named "y" or "z" (any case); an error naming `name` otherwise.
+Expected<UpAxis> upAxisFromName(std::string_view name);
+
+/// How a mesh file's coordinates become hydrotex's (metres, y up). The one conversion every
+/// caller (tool verbs, scenes, plugin) uses, so that `--up` and `"up"` mean the same everywhere.
+struct MeshLoadSettings {
+  UpAxis up = UpAxis::Y;  ///< the file's up axis
+  /// Metres per file unit, for files that declare no unit (OBJ, STL, PLY); applied after the unit
+  /// a file declares itself (COLLADA's <unit>, which assimp applies while reading). > 0, finite.
+  double scale = 1.0;
+  /// Repairs applied after the conversion (MeshRepair.hpp); `repair.enabled = false` loads as is.
+  RepairSettings repair;
+  /// One line naming the first unusable value, or Ok.
+  Status validate() const;
+};
+
+/// Rotates (settings.up) then scales (settings.scale) every position of `mesh` in place; UVs and
+/// winding are untouched (a rotation and a positive scale keep the orientation). Errors: invalid
+/// settings, a coordinate beyond kMaxMeshCoordinate after scaling (messages start with the mesh's
+/// sourceName).
+Status toHydrotexFrame(Mesh& mesh, const MeshLoadSettings& settings);
+
+/// loadMesh(path), toHydrotexFrame(settings), then repairMesh(settings.repair). What was
+/// repaired and what could not be is written to `repairs` when given: defects left do not fail
+/// the load (inspect shows them); a caller that needs a closed body refuses with
+/// RepairReport::requireRepaired.
+Expected<Mesh> loadMesh(const std::string& path, const MeshLoadSettings& settings, RepairReport* repairs = nullptr);
 
 /// Writes `mesh` (with its UVs when it has them) in the format given by the extension of `path`:
 /// .obj (plus a .mtl beside it), .gltf (plus a .bin), .glb, .ply (ASCII), .stl (binary).

@@ -28,7 +28,12 @@ struct MeshReport {
   std::size_t nonManifoldEdges = 0;         ///< edges used by more than two triangles
   std::size_t inconsistentEdges = 0;        ///< edges shared by two triangles that traverse it the same way
   bool watertight = false;                  ///< every edge shared by exactly two oppositely oriented triangles
-  bool outwardOriented = false;             ///< watertight and the signed volume is positive
+  /// Watertight, and every part outward by its own signed volume (a part inside another part is a
+  /// cavity and must point inwards; MeshParts.hpp): a closed mesh with one part inside out is not.
+  bool outwardOriented = false;
+  std::size_t parts = 0;                    ///< connected parts (across edges shared by two triangles)
+  std::size_t insideOutParts = 0;           ///< closed parts whose sign disagrees with their nesting (MeshPart::insideOut)
+  double insideOutVolume = 0.0;             ///< sum of |volume| of those parts (m^3)
   double area = 0.0;                        ///< total surface area (m^2)
   std::optional<double> volume;             ///< enclosed signed volume (m^3), only when watertight
   Eigen::Vector3d boundsMin = Eigen::Vector3d::Zero();  ///< axis-aligned bounds, lower corner (m)

@@ -19,6 +19,7 @@
 #include "hydrotex/LiquidGraphBuilder.hpp"
 #include "hydrotex/MassModel.hpp"
 #include "hydrotex/Mesh.hpp"
+#include "hydrotex/MeshIO.hpp"
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/Wetting.hpp"
 
@@ -140,6 +141,9 @@ struct FloatingBodySettings {
   std::shared_ptr<const Mesh> mesh;
   /// A mesh file any assimp format (used when `mesh` is empty).
   std::string meshPath;
+  /// How `meshPath` is read: up axis, scale and repairs (on by default; a defect left unrepaired
+  /// is refused by addBody with one line). Not applied to `mesh`, which is used as given.
+  MeshLoadSettings load;
   /// Texels per side of the bake (16..4096); 256 is a good default for game objects.
   int resolution = 256;
   /// Hydrostatics path.

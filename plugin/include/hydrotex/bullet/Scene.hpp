@@ -41,6 +41,7 @@ struct SceneBody {
   std::string name;                                          ///< CSV `body` column
   std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
   std::string meshPath;                                      ///< ... loaded from this file
+  MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`
   std::optional<double> density;                             ///< kg/m^3 (uniform solid)
   std::optional<double> mass;                                ///< kg (uniform solid)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();        ///< m, mesh frame origin in the world
