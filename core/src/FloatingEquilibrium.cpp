@@ -250,7 +250,7 @@ Expected<double> checkInput(const Mesh& mesh, const FloatingBody& body, const Fl
     return Error{"floating equilibrium: the start heel and trim must be finite"};
   if (Status closed = checkClosedMesh(mesh); !closed) return closed.error();
   Expected<MassProperties> solid = polyhedralMassProperties(mesh, 1.0);
-  if (!solid) return Error{name + ": " + solid.error().message};
+  if (!solid) return solid.error();  // its messages start with the mesh's name
   Eigen::Vector3d low = mesh.positions.front(), high = low;
   for (const Eigen::Vector3d& p : mesh.positions) {
     low = low.cwiseMin(p);
@@ -363,7 +363,7 @@ Expected<RightingLeverCurve> rightingLeverCurve(const Mesh& mesh, const Floating
     Expected<Search> search = floater.minimize(*start, !roll, roll);
     if (!search) return search.error();
     const Settled& s = search->state;
-    curve.levers.push_back(-floater.moments(s)[swept] / floater.weight());
+    curve.levers.push_back(0.0 - floater.moments(s)[swept] / floater.weight());  // 0 - : no -0 printed
     curve.otherAngles.push_back(wrapAngle(s.angles[other]));
     if (angle == 0.0) {
       // The slope of GZ at 0: the stiffness with heave and the other angle free.
@@ -383,8 +383,10 @@ Expected<RightingLeverCurve> rightingLeverCurve(const Mesh& mesh, const Floating
   curve.maxLever = y[best];
   if (best > 0 && best + 1 < y.size())
     std::tie(curve.angleOfMaxLever, curve.maxLever) = parabolaPeak(x[best - 1], y[best - 1], x[best], y[best], x[best + 1], y[best + 1]);
+  // Levers within the solver's tolerance of zero (rounding at symmetric poses) count as zero.
+  const double zero = 10.0 * settings.floating.tolerance * *size;
   for (std::size_t k = 1; k < y.size(); ++k)
-    if (y[k - 1] > 0.0 && y[k] <= 0.0) {
+    if (y[k - 1] > zero && y[k] <= zero) {
       curve.angleOfVanishingStability = x[k - 1] + (x[k] - x[k - 1]) * y[k - 1] / (y[k - 1] - y[k]);
       break;
     }

@@ -42,7 +42,7 @@ Barge barge(double length, double depth, double beam, double s, double kg) {
 double boxGm(double beam, double draft, double kg) { return 0.5 * draft + beam * beam / (12.0 * draft) - kg; }
 
 /// Wall-sided righting lever GZ = sin(phi) (GM + BM/2 tan^2(phi)) (Biran, Ship Hydrostatics and
-/// Stability, 2003, eq. 6.13).
+/// Stability, 2003, the wall-sided formula; docs/stability.md).
 double wallSidedGz(double phi, double gm, double bm) { return std::sin(phi) * (gm + 0.5 * bm * std::tan(phi) * std::tan(phi)); }
 
 /// Its integral from 0 to phi: GM (1 - cos phi) + BM/2 (sec phi + cos phi - 2).

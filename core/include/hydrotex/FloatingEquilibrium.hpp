@@ -109,8 +109,9 @@ struct RightingLeverCurve {
   double gm = 0.0;
   double angleOfMaxLever = 0.0;  ///< rad, of the largest GZ (parabola through the largest sample and its neighbours)
   double maxLever = 0.0;         ///< m, that largest GZ
-  /// rad, where GZ first falls from positive to zero (linear between samples); empty when it does
-  /// not within maxAngle (or is never positive).
+  /// rad, where GZ first falls from positive to zero (linear between samples; levers within
+  /// 10 tolerance L of zero count as zero); empty when it does not within maxAngle (or is never
+  /// positive).
   std::optional<double> angleOfVanishingStability;
   std::optional<double> area30;  ///< m rad, integral of GZ from 0 to 30 deg (trapezoids); empty when maxAngle < 30 deg
   std::optional<double> area40;  ///< m rad, from 0 to 40 deg; empty when maxAngle < 40 deg
