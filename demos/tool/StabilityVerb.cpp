@@ -65,7 +65,7 @@ Status plotCurve(const RightingLeverCurve& curve, const std::string& axis, const
     std::ofstream gp(dir / "plot.gp");
     gp.precision(6);
     gp << "set terminal pngcairo size 900,600\nset output " << gnuplotQuoted(fs::absolute(pngPath).string()) << "\n"
-       << "set grid\nset key top left\nset xzeroaxis lt -1\nset offsets 0, 0, graph 0.12, graph 0.05\n"
+       << "set grid\nset key below\nset xzeroaxis lt -1\nset offsets 0, 0, graph 0.12, graph 0.05\n"
        << "set title 'Righting lever (" << axis << ", free sinkage and " << (axis == "roll" ? "trim" : "heel")
        << "), GM = " << curve.gm << " m'\n"
        << "set xlabel '" << (axis == "roll" ? "heel" : "trim") << " (deg)'\nset ylabel 'GZ (m)'\n"
