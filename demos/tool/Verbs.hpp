@@ -18,6 +18,10 @@ void addMassVerb(CLI::App& app, VerbAction& action);
 void addBakeVerb(CLI::App& app, VerbAction& action);
 /// `hydrotex hydrostatics MESH ...`: submerged volume, buoyancy, waterplane, stiffness at a pose.
 void addHydrostaticsVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex equilibrium MESH ...`: where a free body floats, its draft, heel, trim and GM.
+void addEquilibriumVerb(CLI::App& app, VerbAction& action);
+/// `hydrotex stability MESH ...`: the righting-lever (GZ) curve and its angles and areas.
+void addStabilityVerb(CLI::App& app, VerbAction& action);
 /// `hydrotex advise MESH --error E [--json]`: the cheapest method and resolution under an error.
 void addAdviseVerb(CLI::App& app, VerbAction& action);
 /// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene in Bullet.

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   hydrotex::tool::addMassVerb(app, action);
   hydrotex::tool::addBakeVerb(app, action);
   hydrotex::tool::addHydrostaticsVerb(app, action);
+  hydrotex::tool::addEquilibriumVerb(app, action);
+  hydrotex::tool::addStabilityVerb(app, action);
 #ifdef HYDROTEX_WITH_ADVISE
   hydrotex::tool::addAdviseVerb(app, action);
 #endif
