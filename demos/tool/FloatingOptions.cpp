@@ -61,8 +61,7 @@ void addFloatingOptions(CLI::App& verb, FloatingOptions& options) {
   verb.add_option("--point-mass", options.pointMasses, "KG@X,Y,Z: a mass added at a point (m, file coordinates); repeatable")
       ->take_all();
   verb.add_option("--fluid-density", options.fluidDensity, "kg/m^3 (default 1000)")->check(CLI::PositiveNumber);
-  verb.add_option("--up", options.up, "the file's up axis: y (default) or z (z becomes y, x stays the length, y becomes -z)")
-      ->check(CLI::IsMember({"y", "z"}));
+  addMeshLoadOptions(verb, options.load);
   verb.add_option("--method", options.method, "exact, texture, or auto (default: exact, which a closed mesh allows)")
       ->check(CLI::IsMember({"exact", "texture", "auto"}));
   addResolutionOption(verb, options.resolution);
@@ -87,13 +86,15 @@ Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions&
   }
 
   auto setup = std::make_unique<FloatingSetup>();
-  Expected<Mesh> mesh = loadMesh(options.meshPath);
+  RepairReport repairs;
+  Expected<Mesh> mesh = loadMesh(options.meshPath, options.load, &repairs);  // --up, --scale, repairs
   if (!mesh) return mesh.error();
+  if (Status repaired = repairs.requireRepaired(options.meshPath); !repaired) return repaired.error();
   setup->mesh = std::move(mesh).value();
   setup->mesh.sourceName = options.meshPath;  // messages start with the path, once
-  // --up z: a rotation of -90 degrees about x takes the file's +z to +y (and +y to -z).
-  if (options.up == "z") setup->fromFile << 1, 0, 0, 0, 0, 1, 0, -1, 0;
-  for (Eigen::Vector3d& p : setup->mesh.positions) p = setup->fromFile * p;
+  // The same axes as loadMesh's conversion (MeshIO.hpp): --up z is -90 degrees about x.
+  if (options.load.up == UpAxis::Z) setup->fromFile << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  setup->fileScale = options.load.scale;
 
   Expected<MassProperties> solid = polyhedralMassProperties(setup->mesh, 1.0);
   if (!solid) return solid.error();  // its messages start with the mesh's name
@@ -101,7 +102,7 @@ Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions&
   Eigen::Vector3d pointMoment = Eigen::Vector3d::Zero();
   for (const auto& [m, p] : points) {
     pointTotal += m;
-    pointMoment += m * (setup->fromFile * p);
+    pointMoment += m * (setup->fileScale * (setup->fromFile * p));
   }
   double hull = 0.0;
   if (options.mass) hull = *options.mass;
@@ -113,7 +114,7 @@ Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions&
                    " kg) already weigh more than the liquid it displaces"};
   }
   const Eigen::Vector3d hullCenter =
-      options.centerOfMass ? Eigen::Vector3d(setup->fromFile * *options.centerOfMass) : solid->centerOfMass;
+      options.centerOfMass ? Eigen::Vector3d(setup->fileScale * (setup->fromFile * *options.centerOfMass)) : solid->centerOfMass;
   setup->body.mass = hull + pointTotal;
   setup->body.centerOfMass = (hull * hullCenter + pointMoment) / setup->body.mass;
   setup->settings.fluidDensity = options.fluidDensity;
@@ -152,7 +153,7 @@ Eigen::Vector3d extrinsicDegreesXYZ(const Eigen::Matrix3d& r) {
 
 void addFloatingJson(nlohmann::json& out, const FloatingSetup& setup) {
   out["mass"] = setup.body.mass;
-  out["center_of_mass"] = toJson(Eigen::Vector3d(setup.fromFile.transpose() * setup.body.centerOfMass));
+  out["center_of_mass"] = toJson(Eigen::Vector3d(setup.fromFile.transpose() * setup.body.centerOfMass / setup.fileScale));
   out["fluid_density"] = setup.settings.fluidDensity;
   setup.method.addTo(out, setup.backend.get());
 }

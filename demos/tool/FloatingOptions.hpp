@@ -18,7 +18,7 @@ namespace hydrotex::tool {
 /// The command line of a floating body (file coordinates, before the up axis is applied).
 struct FloatingOptions {
   std::string meshPath;
-  std::string up = "y";                        ///< "y" or "z": the file's axis that points up
+  MeshLoadSettings load;                       ///< --up, --scale, --no-repair, --max-hole-fraction
   std::optional<double> mass;                  ///< kg, the hull's
   std::optional<double> density;               ///< kg/m^3, a uniform hull
   std::optional<double> displacement;          ///< m^3, the whole body's
@@ -36,7 +36,8 @@ void addFloatingOptions(CLI::App& verb, FloatingOptions& options);
 /// A loaded floating body, ready for findFloatingEquilibrium / rightingLeverCurve.
 struct FloatingSetup {
   Mesh mesh;                          ///< y up (rotated from the file's z up with --up z)
-  Eigen::Matrix3d fromFile = Eigen::Matrix3d::Identity();  ///< file coordinates to `mesh`'s
+  Eigen::Matrix3d fromFile = Eigen::Matrix3d::Identity();  ///< file axes to `mesh`'s (a rotation: --up)
+  double fileScale = 1.0;  ///< metres per file unit (--scale)
   FloatingBody body;                  ///< total mass and centre of mass (mesh frame, y up)
   FloatingSettings settings;          ///< liquid density
   MethodOptions method;               ///< what ran ("auto" resolved)
