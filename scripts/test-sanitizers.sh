@@ -6,8 +6,8 @@
 #
 # Built: every test executable, the tool and the accuracy report they run (not the benchmarks or
 # the renderer). Not run here, each with its reason:
-#   package_find_package  installs and builds a consumer without the sanitizer runtime (packaging,
-#                         run in build/);
+#   package_*             install (cmake --install, the Debian package) and build a consumer
+#                         without the sanitizer runtime (packaging, run in build/);
 #   demo_*                render whole demos through Mesa's llvmpipe (smoke tests, the --window
 #                         runs under Xvfb), minutes each when instrumented; the physics they drive
 #                         is what the suites cover here.
@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 what=${1:-all}
-excluded='^(package_find_package|demo_.*)$'
+excluded='^(package_.*|demo_.*)$'
 
 if [ "$what" = build ] || [ "$what" = all ]; then
   launcher=()

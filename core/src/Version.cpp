@@ -1,5 +1,6 @@
 #include "hydrotex/Version.hpp"
 
 namespace hydrotex {
-const char* versionString() { return "0.1.0"; }
+// HYDROTEX_VERSION is the project's version from CMake (core/CMakeLists.txt), given to this file alone.
+const char* versionString() { return HYDROTEX_VERSION; }
 }  // namespace hydrotex
