@@ -3,6 +3,8 @@
 #   install          scripts/install-deps.sh (Debian packages)
 #   build            Release build into build/ (scripts/build.sh)
 #   tests            every CTest suite in build/
+#   double build     the plugin against double-precision Bullet into build-double/
+#   double tests     ... and its suites run there (scripts/test-bullet-double.sh)
 #   sanitizer build  the suites again with ASan + UBSan into build-asan/ (scripts/test-sanitizers.sh)
 #   sanitizer tests  ... and run there
 #   fuzz build       the libFuzzer targets into build-fuzz/ (scripts/fuzz-build.sh)
@@ -37,6 +39,8 @@ stage() {
 stage install scripts/install-deps.sh
 stage build scripts/build.sh
 stage tests ctest --test-dir build --output-on-failure -j "$(nproc)"
+stage "double build" scripts/test-bullet-double.sh build
+stage "double tests" scripts/test-bullet-double.sh run
 if [ "${HYDROTEX_SKIP_SANITIZERS:-0}" != 1 ]; then
   stage "sanitizer build" scripts/test-sanitizers.sh build
   stage "sanitizer tests" scripts/test-sanitizers.sh run

@@ -303,15 +303,16 @@ TEST_CASE("a deformation callback with a primitive shape: an error, a convex hul
 
 TEST_CASE("triangle-mesh shapes over the mesh's vertices are rewritten and refitted", "[deformation][collision]") {
   const Mesh mesh = primitives::box({1.0, 1.0, 1.0});
-  // The user's vertex array: the mesh's vertices in order (float), its triangles.
-  std::vector<float> vertices;
+  // The user's vertex array: the mesh's vertices in order (btScalar: this constructor takes
+  // Bullet's own precision), its triangles.
+  std::vector<btScalar> vertices;
   for (const Eigen::Vector3d& p : mesh.positions)
-    for (int c = 0; c < 3; ++c) vertices.push_back(float(p[c]));
+    for (int c = 0; c < 3; ++c) vertices.push_back(btScalar(p[c]));
   std::vector<int> indices;
   for (const Eigen::Vector3i& t : mesh.triangles)
     for (int c = 0; c < 3; ++c) indices.push_back(t[c]);
   btTriangleIndexVertexArray array(int(mesh.triangles.size()), indices.data(), 3 * int(sizeof(int)),
-                                   int(mesh.positions.size()), vertices.data(), 3 * int(sizeof(float)));
+                                   int(mesh.positions.size()), vertices.data(), 3 * int(sizeof(btScalar)));
   const bool gimpact = GENERATE(true, false);
   CAPTURE(gimpact);
   std::unique_ptr<btCollisionShape> shape;
