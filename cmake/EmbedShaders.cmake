@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Writes OUTPUT, a C++ file holding every shader file given in SHADERS (a ;-list) as a raw string
 # literal keyed by its file name, behind `std::string_view FUNCTION(std::string_view name)` in
 # NAMESPACE, declared in HEADER. Run at build time (cmake -P) so that editing a shader rebuilds only

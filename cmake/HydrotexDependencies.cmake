@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Every dependency comes from Debian's packages (scripts/install-deps.sh); nothing is downloaded.
 find_package(Eigen3 3.3 REQUIRED CONFIG)
 find_package(assimp REQUIRED CONFIG)

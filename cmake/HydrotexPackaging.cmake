@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # CPack: `cpack -G DEB` (run in the build folder) makes hydrotex_<version>_<arch>.deb holding what
 # `cmake --install` installs: the shared libraries (with their SONAMEs), the public headers, the
 # CMake package files for find_package(hydrotex) and the `hydrotex` tool, under /usr.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Generates the bundled assets in data/: meshes (data/meshes/*.obj) built from the closed
 // primitives of the core library and from a few shapes made here (surfaces of revolution, a height
 // field slab), and their textures (data/textures/*.png): albedo, and for the ship the damage

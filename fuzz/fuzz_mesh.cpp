@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // libFuzzer target: mesh loading, validation, physics atlas, bake, mass and hydrostatics.
 // The first input byte picks how the rest is read: one of assimp's readers (by file extension),
 // or raw little-endian values straight into a Mesh (positions, triangles, UVs), which reaches the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // libFuzzer target: scene parsing (hydrotex::bullet::parseScene on arbitrary text), then, for
 // small valid scenes, building the Bullet world and stepping it a few times. Mesh paths resolve
 // against data/scenes relative to the working directory (the fuzz scripts run from the repository

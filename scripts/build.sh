@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Configures and builds hydrotex (Release) into ./build, using every core; through ccache when it
 # is installed (scripts/install-deps.sh installs it), so that a fresh clone rebuilds cheaply.
 set -euo pipefail

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Packs bench_gpu with every shared library it needs into gpu-bundle/ (git-ignored), so that it
 # runs on a machine that has an NVIDIA GPU and its driver but none of our build dependencies.
 # The GL/EGL loaders (glvnd) come from Debian's packages, unpacked into the bundle; the NVIDIA

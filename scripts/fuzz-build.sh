@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Builds the libFuzzer targets (fuzz/) with clang-14, AddressSanitizer and UBSan into build-fuzz
 # (static libraries: clang links the sanitizer runtimes into executables only). Used by the gating
 # replay (scripts/fuzz-regression.sh) and by exploratory fuzzing (scripts/fuzz.sh).

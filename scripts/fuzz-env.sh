@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Sourced by the fuzz scripts: the fuzz targets, and the sanitizer options every run of them uses.
 fuzz_targets=(fuzz_mesh fuzz_scene)
 # halt_on_error: the first UB report fails the input. The same leak suppressions as the sanitizer

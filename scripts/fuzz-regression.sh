@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # The gating fuzz stage (scripts/test.sh runs it after scripts/fuzz-build.sh): for each fuzz target,
 #  1. replays every input kept in fuzz/corpus/<target>/ once (the seeds and every crash reproducer
 #     found so far, named after what it found), and

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Exploratory fuzzing, run by hand and never by the gating run (that is scripts/fuzz-regression.sh):
 # builds the targets (scripts/fuzz-build.sh), then fuzzes each for FUZZ_SECONDS (default 600) from
 # a random seed (FUZZ_SEED to pick one), starting from the kept corpus fuzz/corpus/<target>/ (read

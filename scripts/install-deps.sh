@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Installs hydrotex's build and test dependencies from Debian's packages. Idempotent: packages
 # already installed are left alone and apt is not touched at all when nothing is missing.
 set -euo pipefail

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Builds the Bullet plugin against Debian's double-precision Bullet (libBullet*-float64,
 # -DHYDROTEX_BULLET_DOUBLE=ON) into build-double and runs the plugin suites and the hard cases
 # there (the far-from-origin case holds tighter in double): `build`, then `run` (no argument: both).

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # Builds hydrotex with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan and runs the
 # CTest suites there: `scripts/test-sanitizers.sh build`, then `scripts/test-sanitizers.sh run`
 # (no argument: both). -O1 (not -O3): the reports stay readable, the build is faster, and

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Zlib
 # The gating run (CI's .ci/run calls it; the README names it). Stages, each timed:
 #   install          scripts/install-deps.sh (Debian packages)
 #   build            Release build into build/ (scripts/build.sh)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The advisor: measures errors against the exact path and times per query (Advisor.hpp).
 #include "hydrotex/Advisor.hpp"
 

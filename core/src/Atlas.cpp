@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file Atlas.cpp
 /// Chart growing by normal similarity with an overlap check inside each chart, area-preserving
 /// chart scaling, and rectangle packing with stb_rect_pack (skyline bottom-left).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "hydrotex/BodyGeometry.hpp"
 
 #include "hydrotex/MeshIO.hpp"

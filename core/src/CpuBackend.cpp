@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file CpuBackend.cpp
 /// The CPU compute backend: each body keeps its TextureHydrostatics (tile hierarchy) and its
 /// TextureMassIntegrator; a batch is a loop over the bodies. The reference every other backend

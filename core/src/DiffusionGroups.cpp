@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Merging of stiff texels for diffusion (DiffusionGroups.hpp says why). Union-find over the texel
 // graph: each pass pairs every stiff group with its most strongly coupled neighbour group, each
 // group joining at most one merge per pass, so groups grow by doubling, not by chains.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file FlatWettedSums.cpp
 /// Finishing a flat-surface hydrostatics result from sums accumulated outside core (a GPU): the
 /// same assembly as the texture path (HydrostaticSums.cpp, finishHydrostatics), so that every

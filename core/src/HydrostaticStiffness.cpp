@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file HydrostaticStiffness.cpp
 /// Heave/roll/pitch hydrostatic stiffness. Source: meshmagick, meshmagick/hydrostatics.py
 /// (compute_hydrostatics: k33 = rho g S_wp, k34 = rho g Int(y), k35 = -rho g Int(x),

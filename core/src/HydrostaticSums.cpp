@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file HydrostaticSums.cpp
 /// Moments of wholly submerged element sets moved to the world, and the final assembly of a
 /// HydrostaticsResult from the wetted-surface sums (derivation in HydrostaticSums.hpp).

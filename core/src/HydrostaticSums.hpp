@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file HydrostaticSums.hpp
 /// Private to core: the sums over the wetted surface that both hydrostatics paths accumulate, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file HydrostaticsQuery.cpp
 /// Up-front checks shared by both hydrostatics paths, so that neither path sees NaN input.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file ImageMap.cpp
 /// PNG maps through stb_image / stb_image_write (implementations live in libstb).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The paper's Liquid Density Field (section 4.2.3 b): Fick's law J = -D grad rho in 3D on a
 // regular grid, rho = liquid volume per voxel volume. Between face neighbours the flux over the
 // face (area h^2) is D (rho_u - rho_v) / h, so the volume moved per step is D dt (V_u - V_v) / h^2;

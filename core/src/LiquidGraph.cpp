@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "hydrotex/LiquidGraph.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file LiquidSurface.cpp
 /// Flat plane, Gerstner waves, height grid and uniform medium behind LiquidSurface.
 

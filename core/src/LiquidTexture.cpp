@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The liquid texture (paper section 4.1, figure 6) and its material maps.
 #include "hydrotex/LiquidTexture.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // A changing mass model (DESIGN.md "Mass model"; paper section 2.3 and figure 13). The texel part
 // (solid, shell, density map) is one TextureMassIntegrator pass (or, for a deforming body that
 // follows triangles, TriangleMassIntegrator's per-triangle sums); point masses are added with the

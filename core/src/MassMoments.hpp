@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MassMoments.hpp
 /// Private to core: from mass, first and second moments about a reference point to MassProperties

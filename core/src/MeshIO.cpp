@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file MeshIO.cpp
 /// assimp import/export. assimp already converts every format's texture coordinates to the
 /// OpenGL/OBJ convention (glTF's v is flipped by its importer and flipped back by its exporter),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file MeshImportFileSystem.cpp
 /// See MeshImportFileSystem.hpp for why assimp's own file systems are not used.
 

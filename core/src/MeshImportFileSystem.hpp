@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file MeshImportFileSystem.hpp
 /// The files assimp may open while importing one mesh (private to core).
 ///

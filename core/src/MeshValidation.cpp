@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file MeshValidation.cpp
 /// Edge counting by sorting (O(n log n)), volume by the divergence theorem, UV overlap by a uniform
 /// grid and the separating axis theorem.

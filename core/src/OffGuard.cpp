@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file OffGuard.cpp
 /// See OffGuard.hpp. Only the counts are checked; everything else is assimp's reader's job.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file OffGuard.hpp
 /// What assimp 5.2's OFF reader cannot be given (private to core; found by fuzz_mesh): vertex or
 /// face counts beyond what the file holds. It allocates for the counts first (a face count of

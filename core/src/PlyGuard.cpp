@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file PlyGuard.cpp
 /// See PlyGuard.hpp. Only what assimp trips on is checked; everything else is its reader's job.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file PlyGuard.hpp
 /// What assimp 5.2's PLY reader cannot be given (private to core; each found by fuzz_mesh):
 /// a header without an "end_header" line (it loops forever), a header line the format does not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file PolyhedralHydrostatics.cpp
 /// Exact hydrostatics of a closed triangle mesh: each triangle is clipped against the water plane
 /// (taken to the body frame, so vertices are never transformed) and the wetted part's moments

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Exact mass properties of a closed triangle mesh.
 // Source: D. Eberly, "Polyhedral Mass Properties (Revisited)", Geometric Tools (2002), which
 // simplifies B. Mirtich, "Fast and Accurate Computation of Polyhedral Mass Properties",

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file PressureWettedSums.cpp
 /// finishPressureHydrostatics: wetted sums accumulated elsewhere (a GPU) under waves, grids or a
 /// medium, finished by core's own assembly (HydrostaticSums.cpp) so that backends differ only in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Closed primitives with physics-ready UV atlases. Every primitive is built as a few parametric
 // grids ("charts") whose nodes share positions across seams by index (so the mesh is watertight
 // with merged vertices) while each chart keeps its own UVs. Charts are laid out in layout units

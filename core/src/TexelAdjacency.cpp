@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The texel graph for surface diffusion. Two kinds of pairs:
 //  - inside a chart: texels that share a texel edge; the interface length is the 3D length of the
 //    part of that edge covered on both sides by UV-continuous triangles (the same triangle, or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TexelClipping.hpp
 /// Private to core: clipping a texel square against a UV triangle (Sutherland-Hodgman against the

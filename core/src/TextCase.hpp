@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file TextCase.hpp
 /// Private to core: ASCII lower case, as file formats and extensions compare their keywords
 /// ("PLY", "Format ASCII", ".OFF", ".MTL" are the same to their readers).

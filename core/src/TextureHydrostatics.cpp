@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file TextureHydrostatics.cpp
 /// Hydrostatics as texel sums (paper section 2.3.1, generalised to pressure integration as in
 /// DESIGN.md): each texel is the planar patch p + s eU + t eV, s, t in [-1/2, 1/2], and the part of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Mass properties from texel sums (paper sections 2.1-2.3; DESIGN.md "Mass model").
 // Solid: the texel of area vector A at position p and the reference point c bound a cone of
 // volume v = (p - c) . A / 3 (divergence theorem: the cones tile the solid, signed, so that the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Mass properties per triangle (issue 5; DESIGN.md "Mass model"): the texel path's cone sums
 // (TextureMassProperties.cpp) collapsed onto the triangles that the texel pieces belong to.
 // Cone over a flat base B of area vector a B from apex c (Mirtich 1996, and the derivation at the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Packed float triples (std::vector<Eigen::Vector3f>: x0 y0 z0 x1 y1 z1 ...) split into
 // structure-of-arrays, four triples at a time. Compilers vectorise stride-3 accesses poorly (two

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Lekner and Dorf 1988, "Why some things are darker when wet", Applied Optics 27(7), 1278-1280:
 // eq. for R_bar(n) (isotropic internal reflectance of a smooth liquid surface), p = 1 - (1 - R_bar)
 // / n^2, absorbed fraction A = (1 - R1) a / (1 - p (1 - a)). Worked numbers in REFERENCES.md.

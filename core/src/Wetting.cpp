@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The liquid texture step (paper section 4.2).
 //  - Absorption: Darcy's law (paper eq. 9, Muskat), flux per area q = k dp / (mu L). The pores'
 //    back-pressure grows with their saturation S, dp = P (1 - S), so under a constant head P a

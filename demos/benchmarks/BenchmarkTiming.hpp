@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Timing shared by the benchmark programs: medians, because these machines are shared and noisy.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // bench_controller: 100 floating boxes at 256^2 with buoyancy and drag in a Bullet world stepped
 // at 60 Hz; the split between Bullet's own work and the BuoyancyController. Prints a table and
 // writes CSV (argv[1], default bench_controller.csv). Medians of several runs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Benchmark for issues 7 and 8: the compute backends on one batched step. Rows:
 //   hydrostatics: 1,000 bodies (sphere, 256^2 bake each), flat surface, one batched step
 //   mass: one body at 1024^2, uniform density, and with a density map uploaded each call

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Hydrostatics speed (one core): texture path on a flat surface with the tile hierarchy and by
 // brute force, the exact polyhedral path per triangle, and the texture path under Gerstner waves
 // per texel. Prints a table and writes CSV (argv[1], default bench_hydrostatics.csv). Every figure

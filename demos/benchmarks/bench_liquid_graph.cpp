@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // bench_liquid_graph: cost of one liquid graph step (Darcy through the permeable texels, the
 // implicit level solve with its active set, levels and free-surface centroids) for a body of 64
 // nodes baked at 512^2, with permeability maps from a small hole to a wholly permeable surface;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Benchmark for issue 2: exact texel bake and texture mass properties on a 100k-triangle mesh,
 // one core. Prints a table and writes CSV (argv[1], default bench_mass.csv):
 // what,resolution,triangles,covered_texels,median_ms,runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Benchmark for issue 5 (variable mass, deforming bodies), one core. Per step of a deforming body:
 // move the vertices, re-evaluate PT/VAT from the kept bake, re-prepare the mass pass and run it
 // (MassModel: the texel pass, and the triangle pass a deforming body uses, followTriangles),

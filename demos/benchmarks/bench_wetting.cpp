@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // bench_wetting: one liquid texture step (absorb + diffuse + evaporate) at several resolutions,
 // and the texel graph against the paper's Liquid Density Field on accuracy (harmonic decay on a
 // sphere) and time. Prints a table and writes bench_wetting.csv (or argv[1]). Medians of 15 runs

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "Camera.hpp"
 
 #include <Eigen/Geometry>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Camera.hpp
 /// A perspective camera looking from an eye point at a target, y up (world frame, metres).

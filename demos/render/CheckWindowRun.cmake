@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Runs hydrotex_demo --window and checks what it did.
 #   MODE=no_display: DISPLAY and WAYLAND_DISPLAY unset; it must exit 2 with a one-line message
 #                    naming the display, and write nothing under OUT_DIR.

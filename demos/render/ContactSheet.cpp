@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "ContactSheet.hpp"
 
 #include <algorithm>

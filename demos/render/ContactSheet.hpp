@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ContactSheet.hpp
 /// A strip of chosen frames, tiled and shrunk, like the paper's figure strips.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file DebugLineCollector.hpp
 /// A btIDebugDraw that keeps the lines it is given (world frame) so that the renderer can draw

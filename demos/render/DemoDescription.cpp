@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "DemoDescription.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file DemoDescription.hpp
 /// A demo file (data/scenes/demo_*.json): a scene (the same JSON `hydrotex simulate` reads, under

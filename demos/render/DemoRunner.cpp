@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "DemoRunner.hpp"
 
 #include <BulletSoftBody/btSoftBody.h>

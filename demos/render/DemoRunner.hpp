@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file DemoRunner.hpp
 /// Runs a demo: simulates its scene headless, renders every frame (EGL, no display), writes the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "GlRenderer.hpp"
 
 #include <epoxy/gl.h>

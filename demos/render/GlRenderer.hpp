@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlRenderer.hpp
 /// Draws one frame of a floating scene offscreen with OpenGL 4.3 core (in a headless EGL context:

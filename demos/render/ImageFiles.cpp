@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "ImageFiles.hpp"
 
 #include <stb_image.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ImageFiles.hpp
 /// Reading and writing the renderer's RGB images as PNG files.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "PreviewWindow.hpp"
 
 // epoxy's gl.h must come first: GLFW_INCLUDE_NONE keeps GLFW from including the system GL headers,

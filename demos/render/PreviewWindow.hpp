@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file PreviewWindow.hpp
 /// A GLFW window that shows a demo's frames as they are drawn (hydrotex_demo --window). It has its

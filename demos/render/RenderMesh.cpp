@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "RenderMesh.hpp"
 
 #include <Eigen/Geometry>

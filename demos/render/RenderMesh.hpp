@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file RenderMesh.hpp
 /// A hydrotex::Mesh unrolled for drawing: one vertex per triangle corner with a position (m, mesh

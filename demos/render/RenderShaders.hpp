@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file RenderShaders.hpp
 /// The files of demos/render/shaders/, embedded at build time by cmake/EmbedRenderShaders.cmake.

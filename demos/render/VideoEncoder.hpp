@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file VideoEncoder.hpp
 /// MP4 (H.264) from numbered PNG frames through the ffmpeg program (Debian's package `ffmpeg`).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "WetScenery.hpp"
 
 #include "hydrotex/TexelAdjacency.hpp"

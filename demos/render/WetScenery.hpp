@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file WetScenery.hpp
 /// Static scenery that gets wet (a beach, a pot drying on a table): a mesh at a fixed pose whose

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "WetnessImage.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file WetnessImage.hpp
 /// A body's liquid texture (per covered texel of its wetting bake, BuoyancyController::

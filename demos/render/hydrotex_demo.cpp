@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // hydrotex_demo: runs one of the paper's scenes headless and renders it.
 //   hydrotex_demo NAME_OR_FILE --out DIR [--frames N] [--size WxH] [--no-video] [--smoke] [--window [--window-check]]
 //   hydrotex_demo --list

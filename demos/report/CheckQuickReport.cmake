@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Runs the accuracy report in quick mode and checks its CSV: the exact header, and that the texture
 # path's volume and centre-of-buoyancy errors on each swept shape fall from the lowest to the
 # highest resolution (the waterline error is O(texel^2): 4x the resolution must cut it).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The accuracy-versus-cost report (issue 10): what accuracy costs in time, per method and resolution.
 //
 //   hydrotex_accuracy_report [--quick] [--no-gpu] [OUTDIR]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex advise MESH --error E [--max-resolution N] [--depths N] [--orientations N] [--json]`:
 // the cheapest method and resolution whose submerged-volume and centre-of-buoyancy errors stay
 // under E at every sampled depth and orientation, measured on MESH against the exact path.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex bake MESH --resolution N --out DIR`: the position texture (PT), the vector-area texture
 // (VAT), texel areas and UV coverage, as PNG pictures a person can look at and as float data
 // (PFM, the portable float map: exact float32 values, readable by common image tools).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex hydrostatics MESH [--method exact|texture] [--resolution N] [--translate X,Y,Z]
 //   [--rotate-deg RX,RY,RZ] [--water-level H] [--fluid-density KG_M3] [--gravity G] [--json]`
 

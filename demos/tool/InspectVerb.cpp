@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex inspect MESH [--up y|z] [--scale S] [--no-repair] [--max-hole-fraction F] [--json]`
 
 #include <sstream>

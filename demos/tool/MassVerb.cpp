@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex mass MESH [--method exact|texture] [--resolution N] [--density KG_M3]
 //                     [--density-map PNG --density-range MIN,MAX] [--json]`
 

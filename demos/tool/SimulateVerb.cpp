@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene headless in
 // Bullet with the BuoyancyController and writes one CSV row per body every N steps.
 

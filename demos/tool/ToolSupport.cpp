@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "ToolSupport.hpp"
 
 #include <cmath>

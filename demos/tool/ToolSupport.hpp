@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Small pieces shared by the verbs: option helpers, JSON and text output, error reporting.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // The verbs of the `hydrotex` tool. Each registers itself on the CLI11 app and sets the action to
 // run when it is chosen; the action returns the process exit code.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // hydrotex: command-line tool for the library (inspect meshes, mass properties, bakes, hydrostatics).
 // Exit codes: 0 success, 1 a problem with the input (one line on stderr naming the file or value),
 // 2 a malformed command line.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Deforming bodies, mass texels: one workgroup per 256-texel mass block of one body (64
 // invocations, 4 texels each). Each texel is evaluated from the moved triangles' frames
 // (deform_texel.glsl, as deform_texels.comp does for the hydrostatics texels) and written as the

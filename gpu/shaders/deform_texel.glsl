@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Deforming bodies: one texel's PT, VAT, area and edges from its pieces and their triangles'
 // frames (core's SurfaceEvaluator::evaluate, the per-texel half, same float operations). Shared
 // by deform_texels.comp (hydrostatics texels) and deform_mass.comp (mass texels), which declare

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Deforming bodies, second pass: one workgroup per hydrostatics chunk (up to 256 texels, 4 per
 // invocation). Each texel's PT, VAT, area and edges from its pieces and their triangles' frames
 // (core's SurfaceEvaluator::evaluate, the per-texel half, same float operations), written where

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Deforming bodies, first pass: per triangle its frame from the moved vertex positions (the
 // per-triangle half of core's SurfaceEvaluator::evaluate): vertex 0, edges, area vector, area and
 // the texel edges on the surface. In float from float positions (the CPU forms edges in double):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // First pass of flat-surface hydrostatics, one invocation per chunk (the GPU form of
 // TextureHydrostatics' tile hierarchy, core/src/TextureHydrostatics.cpp): a chunk whose bounds lie
 // wholly above the surface writes a zero partial; one wholly under it writes the partial from its

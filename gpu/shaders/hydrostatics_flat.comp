@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Flat-surface hydrostatics over the chunks that cross the surface (listed by
 // hydrostatics_classify.comp; chunks wholly above or under it are done there), one workgroup per
 // chunk of up to 256 texels of one body (4 per invocation): each texel is the planar patch

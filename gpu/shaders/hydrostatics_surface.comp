@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Hydrostatics under a surface that is not a flat plane, the GPU form of the waves-and-grids and
 // medium paths of core's TextureHydrostatics::query (core/src/TextureHydrostatics.cpp): over the
 // chunks hydrostatics_classify.comp listed (those not wholly above the surface's highest point),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Storage layouts shared by the compute shaders (std430). Mirrored member for member by the C++
 // structs of hydrotex/gpu/ShaderLayouts.hpp; tests/gpu/test_shader_layouts.cpp computes the std430
 // offsets of every struct here and compares them with offsetof/sizeof, no context needed.

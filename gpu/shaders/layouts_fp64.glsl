@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Storage layouts of the double-precision final pass (needs GL_ARB_gpu_shader_fp64). Mirrored by
 // hydrotex/gpu/ShaderLayouts.hpp, checked by tests/gpu/test_shader_layouts.cpp.
 

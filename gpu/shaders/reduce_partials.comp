@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Final pass in double, one workgroup per body: sums the body's float chunk partials into
 // BodySums. Mass mode also adds each block's cone covariance weighted by the block's mean density
 // and scales the moments (first by 3/4, second by 3/5), as TextureMassIntegrator::evaluate does.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Shared by the hydrostatics texel passes (hydrostatics_flat.comp, hydrostatics_surface.comp).
 
 // E[1(d > X)], E[(d - X)+], E[(d - X)+^2] - frac (a^2 + b^2) / 12 for X = a U1 + b U2, U uniform

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Wet appearance of a rough absorbent surface under a liquid film (paper section 4.3), after
 // Lekner and Dorf 1988, "Why some things are darker when wet", Applied Optics 27(7), 1278-1280.
 // The GLSL twin of core/include/hydrotex/WetShading.hpp (the C++ reference, same names with an

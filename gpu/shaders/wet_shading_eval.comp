@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Evaluates wet_shading.glsl (appended before this file) for a batch of samples, one invocation
 // each: what WetShadingGl.cpp runs to check the GLSL against the C++ reference.
 layout(local_size_x = 64) in;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Pair fluxes of the liquid texture's diffusion (core's Wetting, Fick's law on the graph of
 // diffusion groups): every holding texel gathers the fluxes of its own pairs from a CSR neighbour
 // list and writes its new liquid to the other buffer (ping-pong); texels inside a merged group

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Absorption, sources and evaporation of the liquid texture, one texel per invocation: core's
 // Wetting::exchangeRange (core/src/Wetting.cpp) with the same float equations.
 //  - Under a flat liquid surface (pressure rho g depth), or under any other surface with the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Merged diffusion groups (core's DiffusionGroups, Wetting::poolGroup / spreadGroups), one group
 // per invocation. Pooling: the members' volumes (contents times areas) summed onto the holding
 // texel as the group's mean content; spreading, after the diffusion: the holder's content copied

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Backward Euler diffusion of the liquid texture on the GPU (core's Wetting::diffuseImplicit):
 // (M + dt L) x = M phi, M the groups' areas (1 where a texel holds no group), L the conductance
 // graph's Laplacian with D g_ij, solved by conjugate gradients with a Jacobi preconditioner, in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Finishes a dot product of wetting_implicit.comp (its per-work-group partials, in double) and
 // updates the conjugate gradient's scalars on the GPU, so that no iteration waits for the host:
 // after the start rz = rz0 = r.z; after applying the matrix alpha = rz / p.Ap; after the update

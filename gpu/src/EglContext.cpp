@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file EglContext.cpp
 /// Headless EGL: EGL_EXT_platform_device first, EGL_MESA_platform_surfaceless second, GL core
 /// context without a surface. Driver quirks handled here are marked "Quirk".

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file GlBackend.cpp
 /// The GL compute backend. Per body, the CPU's exact bake is uploaded once as packed texels
 /// (HydroTexel for hydrostatics, MassTexel plus per-block geometry sums for mass); a call uploads

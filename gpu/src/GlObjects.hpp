@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlObjects.hpp
 /// Private to hydrotex::gpu: owning handles for GL buffers and compute programs. They must be

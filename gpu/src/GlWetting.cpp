@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file GlWetting.cpp
 /// The liquid texture step on the GPU: wetting_exchange.comp for absorption, sources and
 /// evaporation (the per-step constants are those Wetting::prepareExchange forms, in float), then

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file GlWettingDiffusion.cpp
 /// Wetting's explicit diffusion (core/src/Wetting.cpp, diffuseExplicit) as a gather over a CSR
 /// neighbour list of the same diffusion groups (mergeStiffTexels), one dispatch per sub-step on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 /// @file MakeBackend.cpp
 /// Backend selection by name.
 

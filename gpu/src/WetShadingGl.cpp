@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // GPU evaluation of gpu/shaders/wet_shading.glsl through gpu/shaders/wet_shading_eval.comp: two
 // vec4 in and two vec4 out per sample (std430 arrays of vec4 have a 16-byte stride, so plain float
 // arrays map onto them).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The deformation effect: a body's vertices move (a callback or scale keyframes) and its texel
 // fields, hydrostatics, mass model, drag patches and collision shape follow (issue 5). Scale
 // keyframes scale the user's shape (setLocalScaling); a callback's vertices are written into a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Conversions between Bullet's btScalar types and the core's Eigen doubles, in one place.
 

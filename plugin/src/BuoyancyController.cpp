@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // How a body moved by a deformation callback keeps its collision shape in step with its vertices
 // (issue 5): the shape hydrotex updates every step, and the map from its points to the mesh's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Per-body state of the controller: what was baked at registration (read-only afterwards) and the
 // pieces of Bullet it changed (compound shape, frames). Private to the plugin.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "hydrotex/bullet/Scene.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Soft bodies in scene files (issue 5, "Deforming bodies": `soft: true` with Bullet's soft-body
 // material keys). The material keys map one to one onto btSoftBody's configuration; the defaults
 // keep a ball's shape (test_soft_body).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Soft bodies in scene files (`soft: true`, `soft_material`): parsing and building the btSoftBody.
 // Private to the plugin; Scene.cpp calls these.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Buoyancy of Bullet soft bodies through texel pressure forces (issue 5; DESIGN.md "Pressure
 // integration", "Exact texels"). The force on a texel is -p A (A its vector area, outward); the
 // texel's pieces carry -p fraction A_face each, and a piece's force acts at its centroid, which is

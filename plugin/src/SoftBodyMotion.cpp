@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // A soft body's motion as a whole from its nodes: the rigid-body quantities of a particle system
 // (momentum / mass, I^-1 L about the centre of mass).
 #include "hydrotex/bullet/SoftBodyMotion.hpp"

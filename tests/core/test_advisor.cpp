@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The advisor (Advisor.hpp): its sample of poses against closed forms, its error measures, and
 // that the advice it gives holds at poses it did not sample.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Physics atlas: artist UVs kept when valid; otherwise a generated atlas that covers every
 // triangle, lies in [0,1]^2, has no overlap and a uniform texel density.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Per-texel maps from PNG: the row convention, 8/16-bit precision, luminance, errors, resampling.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The paper's Liquid Density Field (3D grid diffusion) against the same closed form as the texel
 // graph, and its volume conservation.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Liquid graph (paper section 3): Darcy filling and draining of a compartment against closed
 // forms, the free surface moving with heel, conservation and bounds over 10,000 steps, zero
 // capacity nodes, all-black and all-white permeability maps, and the builders' checks.

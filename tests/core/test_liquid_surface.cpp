@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Liquid surfaces against their defining formulas: Gerstner waves (Tessendorf 2001, eq. 9) as a sum
 // of cosines for steepness 0 and as the parametric trochoid for steepness > 0, deep-water
 // dispersion, orbital velocity decay; height grids (bilinear interpolation, clamping); the uniform

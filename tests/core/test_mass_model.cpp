@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // MassModel: solid, shell, density maps replaced at run time, point masses on paths, combined
 // with the parallel-axis theorem, and recomputed only when something changed.
 #include <Eigen/Geometry>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Mass properties: the exact polyhedral path against closed forms, and the texture path against
 // the exact path (solid, shell, density maps).
 #include <catch2/catch.hpp>

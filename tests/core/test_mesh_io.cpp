@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Mesh import/export: every format round-trips, UV seams merge, bad files give one-line errors.
 #include <catch2/catch.hpp>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Mesh validation: topology defects, orientation, volume and area, UV overlap.
 #include <catch2/catch.hpp>
 

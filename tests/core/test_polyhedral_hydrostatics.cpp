@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Exact polyhedral hydrostatics against closed forms on the same polyhedra (box at any tilt, N-gon
 // cone), against smooth closed forms with the polyhedral approximation error as the tolerance
 // (sphere caps, cylinder segments, torus, Wigley hull), property checks on random closed meshes

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Primitives: closed, outward, merged vertices, valid UV atlases, and volumes against the
 // polyhedra's own closed forms.
 #include <Eigen/Geometry>

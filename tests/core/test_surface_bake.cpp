@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The exact texel bake: closure, areas and enclosed volume against the polyhedral reference at
 // several resolutions, re-evaluation from moved vertices, layout order, and bad input.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The per-step path of a deforming body (issue 5): SurfaceEvaluator against the double reference
 // evaluateSurface, TextureMassIntegrator::update and TextureHydrostatics::update against fresh
 // preparation from the same textures, buffers reused, and bad input.

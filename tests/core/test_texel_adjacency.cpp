@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The texel graph: exact interface lengths inside charts and across seams, connectivity across
 // every seam of closed primitives.
 #include <catch2/catch.hpp>

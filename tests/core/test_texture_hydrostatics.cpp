@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Texture-path hydrostatics against the exact polyhedral path on the same mesh: accuracy at 256^2,
 // order of convergence, hierarchy == brute force, waves and grids that are flat, media, errors.
 #include <Eigen/Geometry>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // TriangleMassIntegrator (issue 5, deforming bodies): uniform solids and shells on deformed meshes
 // against the exact polyhedral reference, a density map of two hemispheres against the exact
 // halves and the closed form, a density map on a deformed mesh against the texel path on a fresh

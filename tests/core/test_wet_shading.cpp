@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Wet appearance against Lekner and Dorf's worked numbers (REFERENCES.md).
 #include <catch2/catch.hpp>
 

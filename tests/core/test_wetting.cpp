@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The liquid texture step against closed forms: Fick on a plate and a sphere (across seams),
 // Darcy uptake against a constant head, two-stage drying, mass balance, stability at any step.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Per-texel material from PNG maps (LiquidTexture's porosity and permeability maps, loaded with
 // loadImageMap and resampled with resampleToTexels) through the wetting step, against closed
 // forms: a half-black permeability map absorbs only on its white half (Darcy's exponential

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The same test bodies run against every compute backend (CPU, and GL on whatever headless EGL
 // gives: llvmpipe on CI): closed forms and the exact polyhedral path first, then the GL backend
 // against the CPU backend on the same inputs (issue 7's parity: 1e-5 relative on volume and force,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The headless context and backend selection: creation failures are Error values (never a crash),
 // and on a machine with EGL (CI: Mesa llvmpipe through the surfaceless platform) a GL 4.3+ core
 // context opens and names its renderer.

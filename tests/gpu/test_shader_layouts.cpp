@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Layout tests (no GL context): every storage struct of gpu/shaders/layouts*.glsl, laid out by the
 // std430 rules (OpenGL 4.6 spec, section 7.6.2.2, rules 1-9 without the vec4 rounding of std140),
 // must have the same member offsets and size as its C++ mirror in hydrotex/gpu/ShaderLayouts.hpp,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // gpu/shaders/wet_shading.glsl run through GL (llvmpipe on CI) against the C++ reference
 // hydrotex/WetShading.hpp and Lekner and Dorf's worked numbers. Warns, without failing, when no
 // headless context can be opened (as the other GPU suites).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Wetting's diffusion on the GPU (GlWettingDiffusion) against core's Wetting::diffuse on the same
 // graph: a UV sphere (pairs across its seam) with a patch of liquid, several steps of explicit
 // sub-steps, with and without merged stiff texels and a pigment channel; whole steps (GlWetting:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # Makes a scratch root holding an installed hydrotex, then configures, builds and runs tests/package
 # as a separate project against it: find_package(hydrotex CONFIG) must work from either
 #   MODE=install  `cmake --install` into a prefix, or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Compiles and runs against an installed hydrotex: the volume of a unit box through the public API.
 #include <cmath>
 #include <cstdio>

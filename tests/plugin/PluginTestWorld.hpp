@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // A small headless Bullet world with one BuoyancyController, for the plugin's tests: boxes are
 // added with full FloatingBodySettings so that each test can pick effects and coefficients.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Zlib
 # The README's drop-in example must be exactly the block that test_readme_example.cpp compiles.
 file(READ "${SOURCE_DIR}/tests/plugin/test_readme_example.cpp" test_source)
 file(READ "${SOURCE_DIR}/README.md" readme)

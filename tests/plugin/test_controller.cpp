@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // BuoyancyController bookkeeping: effects on demand cost nothing, settings are validated, mass
 // changes keep the shape and the momentum, floating bodies are not frozen mid-oscillation, scene
 // files are checked key by key.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The deformation effect: vertices moved every step (scale keyframes or a callback), PT/VAT
 // re-evaluated from the kept bake, buoyancy and mass following; hot-air balloons lifting off when
 // the displaced air outweighs envelope, basket and inner gas (ideal gas law), against the closed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Floating in Bullet against closed forms (REFERENCES.md "Hydrostatics"), each at several time
 // steps: draft, heave period, metacentric stability, sinking and terminal velocity, light and
 // dropped bodies, balloons in air.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The flooding effect in Bullet: a barge with a hole in its bottom takes on water and sinks, an
 // intact one floats on; damage on one side makes it list to that side (the held liquid gathers
 // on the low side); the held liquid's mass is the body's extra mass; settings are checked.

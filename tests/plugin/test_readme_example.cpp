@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The README's drop-in example, compiled and run exactly as printed there (between the markers).
 #include <catch2/catch.hpp>
 

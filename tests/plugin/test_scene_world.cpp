@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // SceneWorld's life: every bundled demo scene is built, stepped and torn down, and so are worlds
 // left half-built by an error. The balloon demo once crashed at exit inside ~FloatingBody during
 // ~SceneWorld; these cases run under ASan+UBSan in scripts/test-sanitizers.sh, where a use after

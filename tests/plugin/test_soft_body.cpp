@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Soft bodies (issue 5): a btSoftBody ball in a btSoftRigidDynamicsWorld, registered with the
 // controller, floats at the draft its mass gives (closed form: the sphere cap of volume m / rho)
 // and keeps its shape (Bullet's volume conservation); the pressure forces on its nodes equal

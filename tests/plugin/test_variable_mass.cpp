@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The variable_mass effect against closed forms (REFERENCES.md "Hydrostatics"): a point mass
 // moved sideways heels a floating box to tan(heel) = w d / (Delta GM); a shell box floats at the
 // draft its mass gives; nothing is recomputed when nothing changed; scene keys and their errors.

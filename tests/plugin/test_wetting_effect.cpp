@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The wetting effect in the controller: only bodies that list it step a liquid texture (effects on
 // demand), a box floating at its draft soaks by Darcy's law below the waterline as the closed form
 // says, and the scene key `wetting` is read key by key.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Image maps that are not what the bake expects, through the API (loadImageMap) and the tool
 // (`hydrotex mass --density-map`): a size other than the bake's, grey+alpha, 16-bit, and corrupt
 // files. Usable images give the right mass; corrupt ones one line naming the file, never a crash

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Bad mesh files, through the API (loadMesh, loadMeshFromMemory, loadBodyGeometry) and the tool
 // (inspect, mass, hydrostatics, bake): each gives one line naming the file and a non-zero exit,
 // never a crash, a hang or a silently wrong number. Meshes that are imperfect but usable (no UVs,

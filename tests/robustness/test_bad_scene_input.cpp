@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Bad scene files, through the API (parseScene, SceneWorld::create) and `hydrotex simulate`:
 // every key given a value of the wrong type, negative densities, impossible time steps, unknown
 // effect names, missing or unreadable mesh and image files. Each gives one line naming the key or

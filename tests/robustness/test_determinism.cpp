@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Determinism: the same scene run twice gives bit-identical results on the CPU backend, through
 // the API (every body's state compared bit for bit after every step) and through
 // `hydrotex simulate` (the CSV files compared byte for byte). A difference would come from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Flooding hard cases (issue 11), on the liquid graph of a box with a hole in its floor: filling
 // to full and draining to empty over thousands of steps; all the liquid entering or leaving in a
 // single huge step; a zero-capacity junction and an all-white wall under huge steps. Every step:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // Hard cases for the Bullet plugin, each run for thousands of steps: every step must stay finite
 // and bounded, and where a closed form exists the body must end where it says (the draft of a
 // floating box, d = rho_b / rho h). Waterline contacts, fast crossings, fast tumbling, thin and

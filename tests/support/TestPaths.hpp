@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Where tests find the repository's files and where they may write.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "TestSurfaces.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Surface textures that several suites bake the same way.
 #include <vector>

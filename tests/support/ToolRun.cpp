@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #include "ToolRun.hpp"
 
 #include <sys/wait.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 // Running the `hydrotex` tool from a test as a user would: arguments on a shell line, stdout and
 // stderr captured, the exit status decoded, a time limit so that a hang fails instead of blocking.

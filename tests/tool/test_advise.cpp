@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex advise` as a user meets it: the advice's JSON keys, that the advised settings, passed
 // on to `hydrotex hydrostatics`, keep the error under the target, and clean failures.
 

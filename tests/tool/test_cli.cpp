@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // The `hydrotex` tool as a user meets it: JSON keys and values on good input; a one-line message
 // naming the file or value and a non-zero exit on bad input, never a crash.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 // `hydrotex simulate` with a soft body (issue 5): the CSV keeps its columns and their order and
 // gains one row per soft body after the rigid ones, with the nodes' centre of mass, velocities,
 // node mass and submerged volume; the flooding and wetting columns read 0 (not applicable), as

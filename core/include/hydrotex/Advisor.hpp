@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Advisor.hpp
 /// What accuracy costs in time, measured on one mesh: the texture path (at a resolution, with the

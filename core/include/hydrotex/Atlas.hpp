@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Atlas.hpp
 /// The UV layout used for physics: the artist's UVs when they are a valid atlas, otherwise a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file BodyGeometry.hpp
 /// Everything baked once for a body, in the order of the data flow (DESIGN.md): mesh -> validate ->

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ComputeBackend.hpp
 /// One interface for the per-step texel passes (DESIGN.md "Backends"): a CPU implementation here in

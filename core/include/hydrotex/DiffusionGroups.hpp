@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file DiffusionGroups.hpp
 /// The control volumes the liquid diffuses between: the texel graph with its stiff texels merged.

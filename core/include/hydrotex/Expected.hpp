@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Expected.hpp
 /// Error values for every fallible call: the per-step path never throws, it returns an Expected.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Hydrostatics.hpp
 /// What a hydrostatics query asks and what it answers; shared by the texture path

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file IdealGas.hpp
 /// Density of a gas from its pressure and temperature (hot-air balloons: the inner gas lightens as

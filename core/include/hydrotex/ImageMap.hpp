@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ImageMap.hpp
 /// Extra per-texel maps (density, permeability, porosity) from PNG images, resampled to a bake.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidDensityField.hpp
 /// The paper's Liquid Density Field (section 4.2.3 b): the liquid of the texels is splatted into a

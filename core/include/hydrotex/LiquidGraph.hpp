@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidGraph.hpp
 /// The liquid graph of a permeable body (paper section 3.1; DESIGN.md "LiquidGraph"): nodes are

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidGraphBuilder.hpp
 /// Building a body's liquid graph (paper section 3.2): automatically (segment the surface into k

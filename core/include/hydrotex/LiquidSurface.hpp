@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidSurface.hpp
 /// The liquid a body sits in, behind one injected interface (as btVehicleRaycaster is for

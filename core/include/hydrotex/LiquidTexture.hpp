@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidTexture.hpp
 /// The liquid texture (LT, paper section 4.1): liquid held per unit area in every covered texel,

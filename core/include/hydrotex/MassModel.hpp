@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MassModel.hpp
 /// A body's mass model that may change while it moves (DESIGN.md "Mass model"; paper figure 13):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MassProperties.hpp
 /// Mass, centre of mass and inertia: the exact polyhedral reference (Mirtich 1996 / Eberly,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Mesh.hpp
 /// A triangle mesh with (optional) texture coordinates, as loaded from any file assimp reads.

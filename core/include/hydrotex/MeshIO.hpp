@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MeshIO.hpp
 /// Reading and writing triangle meshes through assimp (OBJ, glTF/GLB, PLY, STL and every other

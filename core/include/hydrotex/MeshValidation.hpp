@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MeshValidation.hpp
 /// What a mesh is fit for: closed (volume, buoyancy) or only a surface (drag, wetting), and whether

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file PolyhedralHydrostatics.hpp
 /// The exact reference path (DESIGN.md "Exact reference"): the closed triangle mesh is clipped

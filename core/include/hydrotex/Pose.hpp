@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Pose.hpp
 /// A rigid placement of a body in the world: x_world = rotation * x_body + translation.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Primitives.hpp
 /// Closed meshes with non-overlapping UV atlases, for tests, benchmarks, demos and assets.

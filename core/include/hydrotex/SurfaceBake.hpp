@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file SurfaceBake.hpp
 /// The exact texel bake (DESIGN.md "Exact texels"): every texel square is clipped against every UV

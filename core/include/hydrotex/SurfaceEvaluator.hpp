@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file SurfaceEvaluator.hpp
 /// Per-step re-evaluation of PT, VAT, area and texel edges of a deforming mesh from a kept bake

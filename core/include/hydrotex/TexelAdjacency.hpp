@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TexelAdjacency.hpp
 /// The texel graph that liquid diffuses on: which covered texels exchange liquid and how easily.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TexelDrag.hpp
 /// Hydrodynamic drag on a body's surface, texel by texel (DESIGN.md "The data flow":

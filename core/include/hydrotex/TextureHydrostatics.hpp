@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TextureHydrostatics.hpp
 /// The texture path (paper section 2.3; DESIGN.md "Pressure integration", "The waterline inside a

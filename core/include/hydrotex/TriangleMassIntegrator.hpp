@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TriangleMassIntegrator.hpp
 /// Mass properties of a deforming body in O(triangles) per step (issue 5 "Deforming bodies";

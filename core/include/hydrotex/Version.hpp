@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Version.hpp
 /// Library version, for tools and bug reports.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file WetShading.hpp
 /// Wet appearance of a rough absorbent surface under a liquid film (paper section 4.3), after

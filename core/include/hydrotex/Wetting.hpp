@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Wetting.hpp
 /// One step of the liquid texture (paper section 4.2): absorption by Darcy's law (eq. 9) under the

@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 // Lambert sun with a 3x3 percentage-closer shadow lookup, hemispheric sky ambient, albedo texture,
 // the wet look of the body's liquid texture (Lekner and Dorf, the library's own wet_shading.glsl)
 // and an optional pseudo-colour overlay of a surface map or of the wetness.

@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in vec2 uv;

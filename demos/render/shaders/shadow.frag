@@ -1,2 +1,3 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 void main() {}

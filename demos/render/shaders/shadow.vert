@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 layout(location = 0) in vec3 position;
 uniform mat4 model;
 uniform mat4 lightViewProjection;

@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 // Sky gradient above the horizon, deep water colour below it (seen through the transparent
 // water surface), and a soft sun disc.
 in vec2 clipPosition;

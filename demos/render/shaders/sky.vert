@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 // A triangle that covers the screen; the fragment shader turns its position into a view ray.
 out vec2 clipPosition;
 void main() {

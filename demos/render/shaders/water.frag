@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 // Transparent water: Schlick's Fresnel term (Schlick 1994, F0 = 0.02 for water) blends the body
 // colour of the water with the reflected sky; a sun glint on top; more opaque at grazing angles.
 in vec3 worldPosition;

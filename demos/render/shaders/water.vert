@@ -1,4 +1,5 @@
 #version 430 core
+// SPDX-License-Identifier: Zlib
 layout(location = 0) in vec3 position;  // world
 layout(location = 1) in vec3 normal;    // world
 uniform mat4 viewProjection;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file EglContext.hpp
 /// A headless OpenGL 4.3+ core context through EGL, with no window and no surface

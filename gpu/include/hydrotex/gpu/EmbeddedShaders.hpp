@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file EmbeddedShaders.hpp
 /// The files of gpu/shaders/, embedded into the library at build time by

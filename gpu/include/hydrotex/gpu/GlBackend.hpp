@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlBackend.hpp
 /// The OpenGL 4.3 compute backend (DESIGN.md "Backends"): the CPU's exact bake uploaded once per

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlWetting.hpp
 /// A whole liquid texture step of core's Wetting on the GPU: absorption by Darcy's law (paper

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlWettingDiffusion.hpp
 /// The diffusion of core's Wetting (Fick's law on the texel graph, explicit sub-steps under the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MakeBackend.hpp
 /// A compute backend by name, for command lines (`--backend cpu|gpu`) and scene files.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ShaderLayouts.hpp
 /// C++ mirrors of the std430 storage structs of gpu/shaders/layouts.glsl and layouts_fp64.glsl,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file WetShadingGl.hpp
 /// Runs gpu/shaders/wet_shading.glsl (the Lekner and Dorf wet appearance for users' engines) on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file BuoyancyController.hpp
 /// The drop-in object: one btActionInterface that makes registered rigid bodies float, tip and

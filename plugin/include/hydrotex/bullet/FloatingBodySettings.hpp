@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file FloatingBodySettings.hpp
 /// How one rigid body floats: its mesh, resolution, mass model and the effects it pays for

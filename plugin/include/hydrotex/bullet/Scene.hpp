@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file Scene.hpp
 /// Scene files (JSON) shared by `hydrotex simulate`, the tests and the benchmarks (Box2D's

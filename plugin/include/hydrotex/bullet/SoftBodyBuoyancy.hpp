@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file SoftBodyBuoyancy.hpp
 /// Buoyancy of Bullet soft bodies (issue 5, "Deforming bodies"): Bullet computes no hydrostatic

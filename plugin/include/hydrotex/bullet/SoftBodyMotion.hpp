@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Zlib
 #pragma once
 /// @file SoftBodyMotion.hpp
 /// The motion of a btSoftBody as a whole (its nodes' mass-weighted sums), for reports such as
