@@ -233,8 +233,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
         if (Status s = model.followTriangles(geometry->bake, geometry->atlas.layout, mesh); !s)
           return Error{"deformation: " + s.error().message};
       }
-      if (Status s = model.setSolidDensity(density); !s) return Error{"density: " + s.error().message};
-      if (Status s = model.setShellDensity(settings.shellDensity); !s) return Error{"shellDensity: " + s.error().message};
+      // What a deformation keeps (FloatingBodySettings::mass): a body given by its density keeps
+      // it; one given by its mass (or Bullet's) keeps that mass; a shell keeps its mass.
+      const Conserved solidConserved = settings.density ? Conserved::Density : Conserved::Mass;
+      if (Status s = model.setSolidDensity(density, solidConserved); !s) return Error{"density: " + s.error().message};
+      if (Status s = model.setShellDensity(settings.shellDensity, Conserved::Mass); !s)
+        return Error{"shellDensity: " + s.error().message};
       if (settings.densityMap) {
         std::vector<float> texelDensity = resampleToTexels(*settings.densityMap, geometry->bake);
         const double low = settings.densityRange[0], high = settings.densityRange[1];

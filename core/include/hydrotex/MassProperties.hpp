@@ -67,6 +67,8 @@ class TextureMassIntegrator {
   std::size_t size() const { return count_; }
   /// Enclosed volume (m^3): the sum of the cone volumes (exact up to float rounding).
   double volume() const { return totalVolume_; }
+  /// Surface area (m^2): the sum of the texel areas.
+  double area() const { return shellArea_; }
 
  private:
   struct Moments;  // mass, first and second moments about the reference point, in double
