@@ -193,6 +193,8 @@ struct FloatingBodySettings {
   /// Texel normals within this cosine are merged into one drag patch per tile (0..1).
   double dragPatchNormalCosine = 0.9;
   /// Drag patches reach at most this fraction of the body's largest extent from their first texel.
+  /// Merging loses spin damping as this squared: 4 % of a spinning cube's drag torque at 0.2, 1 %
+  /// at 0.1 (mergeTexelsIntoDragPatches).
   double dragPatchRadiusFraction = 0.2;
 
   /// One line naming the first unusable value, or Ok.
