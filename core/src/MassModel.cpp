@@ -1,4 +1,4 @@
-// A changing mass model (DESIGN.md "Mass model"; paper section 2.3 and figure 13). The texel part
+// A changing mass model (docs/design.md "Mass model"; paper section 2.3 and figure 13). The texel part
 // (solid, shell, density map) is one TextureMassIntegrator pass (or, for a deforming body that
 // follows triangles, TriangleMassIntegrator's per-triangle sums); point masses are added with the
 // parallel-axis theorem (Steiner): about the combined centre C, a part of mass m, centre c and

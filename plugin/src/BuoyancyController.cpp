@@ -225,7 +225,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
     }
     if (wantsMassModel) {
-      // Mass model (DESIGN.md "Mass model"): cones from the bounding box's centre.
+      // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.
       MassModel& model = floating->massModel.emplace(geometry->textures, floating->boundsCenter);
       // A deforming body's mass follows its moved vertices per triangle (O(triangles) a step,
       // exact for uniform solids and shells) instead of a pass over its texels.
@@ -253,7 +253,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       model.advanceTo(time_);
       if (flooding) {
         // Paper section 3: the liquid graph, its permeable texels from the PMT, and one point mass
-        // per node that carries the node's liquid (DESIGN.md "Mass model").
+        // per node that carries the node's liquid (docs/design.md "Mass model").
         const FloodingBodySettings& floodingSettings = settings.flooding;
         std::vector<float> permeability;
         if (floodingSettings.permeabilityMap) permeability = resampleToTexels(*floodingSettings.permeabilityMap, geometry->bake);
@@ -403,7 +403,7 @@ Status BuoyancyController::applyMassProperties(FloatingBody& found, const MassPr
   const btTransform bodyWorldBefore = body->getCenterOfMassTransform();
   const btTransform meshWorld = firstTime ? bodyWorldBefore : bodyWorldBefore * floating->bodyToMesh.inverse();
 
-  // Momentum before (DESIGN.md "Bullet's frame"): linear P = m v; angular about the new centre
+  // Momentum before (docs/design.md "Bullet's frame"): linear P = m v; angular about the new centre
   // L = I w + m (c_old - c_new) x v.
   const double oldMass = firstTime ? 0.0 : floating->report.massProperties.mass;
   const Eigen::Vector3d v = toEigen(body->getLinearVelocity());

@@ -60,7 +60,7 @@ TEST_CASE("the sampled poses put the water at the stated fractions of the body's
   const FlatSurface water(0.0);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     // Water at (k + 1) / 4 of the height: a cap of depth d = 2 r (k + 1) / 4, V = pi d^2 (3r - d) / 3
-    // (REFERENCES.md). The mesh is a polyhedron inscribed in the sphere: its volume is short by
+    // (docs/references.md). The mesh is a polyhedron inscribed in the sphere: its volume is short by
     // about (2 pi / 96)^2 / 2 = 0.2 %, so 1 % of the sphere's volume bounds the difference.
     const double depth = 2.0 * radius * double(i % 3 + 1) / 4.0;
     const double cap = kPi * depth * depth * (3.0 * radius - depth) / 3.0;

@@ -149,7 +149,7 @@ TEST_CASE("Texture path: converges to the exact path at second order", "[hydrost
   const double volumeOrder = slope(logVolumeError), areaOrder = slope(logAreaError);
   INFO("volume order " << volumeOrder << ", water-plane area order " << areaOrder);
   WARN("texture path convergence: volume order " << volumeOrder << ", water-plane area order " << areaOrder);
-  // The waterline inside a texel is placed on a planar patch: second order (DESIGN.md).
+  // The waterline inside a texel is placed on a planar patch: second order (docs/design.md).
   CHECK(volumeOrder >= 1.8);
   CHECK(areaOrder >= 1.5);
 }

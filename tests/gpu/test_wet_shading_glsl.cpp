@@ -33,7 +33,7 @@ TEST_CASE("wet_shading.glsl on the GPU matches the C++ reference to 1e-3", "[wet
   const gpu::EglContext& c = **context;
   INFO("renderer " << c.renderer());
 
-  // Worked numbers (REFERENCES.md): a = 0.5 under water: p = 0.4719, diffuse 0.3386, total 0.3587.
+  // Worked numbers (docs/references.md): a = 0.5 under water: p = 0.4719, diffuse 0.3386, total 0.3587.
   gpu::WetShadingSample water;
   water.dryRgb = Eigen::Vector3f(0.5f, 0.4f, 0.2f);
   // Random samples over the range a user feeds: albedo 0..1, saturation 0..1 (and outside, to

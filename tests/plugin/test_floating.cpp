@@ -1,4 +1,4 @@
-// Floating in Bullet against closed forms (REFERENCES.md "Hydrostatics"), each at several time
+// Floating in Bullet against closed forms (docs/references.md "Hydrostatics"), each at several time
 // steps: draft, heave period, metacentric stability, sinking and terminal velocity, light and
 // dropped bodies, balloons in air.
 

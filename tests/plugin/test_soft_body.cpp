@@ -102,7 +102,7 @@ btVector3 centerOfMass(const btSoftBody& body) {
 }
 
 /// Draft h of a sphere of `radius` floating with displaced volume `volume`: the cap
-/// V(h) = pi h^2 (3 R - h) / 3 (REFERENCES.md, sphere cap), solved by bisection on [0, 2R].
+/// V(h) = pi h^2 (3 R - h) / 3 (docs/references.md, sphere cap), solved by bisection on [0, 2R].
 double sphereDraft(double radius, double volume) {
   double low = 0.0, high = 2.0 * radius;
   for (int i = 0; i < 100; ++i) {

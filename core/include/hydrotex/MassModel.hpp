@@ -1,6 +1,6 @@
 #pragma once
 /// @file MassModel.hpp
-/// A body's mass model that may change while it moves (DESIGN.md "Mass model"; paper figure 13):
+/// A body's mass model that may change while it moves (docs/design.md "Mass model"; paper figure 13):
 /// solid density, shell areal density, a per-texel density map (replaceable at run time) and
 /// point masses (cargo, passengers) that may follow linear paths. Mass, centre of mass and the
 /// full inertia tensor come from one TextureMassIntegrator pass plus the point masses, and are

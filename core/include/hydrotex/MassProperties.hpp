@@ -23,7 +23,7 @@ struct MassProperties {
 /// precision. Error when the mesh is open, empty, or has non-finite vertices, or density <= 0.
 Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density);
 
-/// What a body is made of, for the texture path (DESIGN.md "Mass model").
+/// What a body is made of, for the texture path (docs/design.md "Mass model").
 struct TextureMassModel {
   double solidDensity = 1000.0;    ///< kg/m^3 filling the enclosed volume (0: hollow)
   double shellDensity = 0.0;       ///< kg/m^2 over the surface (hulls, buoys)

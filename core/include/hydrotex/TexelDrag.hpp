@@ -1,6 +1,6 @@
 #pragma once
 /// @file TexelDrag.hpp
-/// Hydrodynamic drag on a body's surface, texel by texel (DESIGN.md "The data flow":
+/// Hydrodynamic drag on a body's surface, texel by texel (docs/design.md "The data flow":
 /// Hydrodynamics): each surface element feels a pressure drag along its normal and a skin
 /// friction along the surface, from its velocity relative to the liquid. Pure functions with
 /// fixed-size inputs and outputs (no Bullet, no allocation per call).

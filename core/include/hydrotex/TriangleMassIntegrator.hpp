@@ -1,7 +1,7 @@
 #pragma once
 /// @file TriangleMassIntegrator.hpp
 /// Mass properties of a deforming body in O(triangles) per step (issue 5 "Deforming bodies";
-/// DESIGN.md "Mass model"), with the same meaning as the texel path (TextureMassIntegrator): a
+/// docs/design.md "Mass model"), with the same meaning as the texel path (TextureMassIntegrator): a
 /// solid of uniform density or a per-texel density map (a texel's density fills the cones from the
 /// reference point to its pieces), plus a shell of uniform areal density. A texel piece is a fixed
 /// polygon of one triangle in barycentric coordinates, so every sum over texels collapses to a

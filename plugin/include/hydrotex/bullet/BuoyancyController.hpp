@@ -125,7 +125,7 @@ class BuoyancyController : public btActionInterface {
   const SoftBodyReport* softBodyReport(const btSoftBody* body) const;
 
   /// Changes mass, centre of mass and inertia (mesh frame) of a registered body, keeping the shape
-  /// where it is in the world and keeping linear and angular momentum (DESIGN.md "Bullet's
+  /// where it is in the world and keeping linear and angular momentum (docs/design.md "Bullet's
   /// frame"). Errors: unknown body, non-positive or non-finite mass, non-finite centre, an
   /// inertia that is not symmetric positive definite.
   Status setMassProperties(btRigidBody* body, const MassProperties& massProperties);

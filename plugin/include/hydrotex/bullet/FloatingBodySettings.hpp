@@ -1,7 +1,7 @@
 #pragma once
 /// @file FloatingBodySettings.hpp
 /// How one rigid body floats: its mesh, resolution, mass model and the effects it pays for
-/// (DESIGN.md "Effects on demand"). A settings struct with defaults and validate(), as Jolt's
+/// (docs/design.md "Effects on demand"). A settings struct with defaults and validate(), as Jolt's
 /// XSettings.
 
 #include <array>
