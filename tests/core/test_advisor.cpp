@@ -47,6 +47,25 @@ HydrostaticsErrors textureErrors(const Mesh& mesh, int resolution, const QuerySa
   return worst;
 }
 
+/// Every texture candidate's error estimate, whichever method wins, against the worst errors over
+/// the same sample recomputed here (the same bake, the exact path as reference). Only the order of
+/// the texel sums may differ (hierarchy or brute force: 1e-9 of the total volume, test_texture_
+/// hydrostatics), so 1e-8 absolute on errors relative to the total volume and the size.
+void checkTextureEstimates(const Mesh& mesh, const Advice& advice, const QuerySampling& sampling) {
+  int checked = 0;
+  for (const MethodMeasurement& candidate : advice.candidates) {
+    if (candidate.method == HydrostaticsMethod::Exact) continue;
+    CAPTURE(methodName(candidate.method), candidate.resolution);
+    const HydrostaticsErrors measured = textureErrors(mesh, candidate.resolution, sampling);
+    CHECK(measured.worst() > 0.0);
+    CHECK(candidate.maxErrors.volume == Approx(measured.volume).margin(1e-8));
+    CHECK(candidate.maxErrors.centerOfBuoyancy == Approx(measured.centerOfBuoyancy).margin(1e-8));
+    CHECK(candidate.maxErrors.force == Approx(measured.force).margin(1e-8));
+    ++checked;
+  }
+  CHECK(checked > 0);
+}
+
 }  // namespace
 
 TEST_CASE("the sampled poses put the water at the stated fractions of the body's height", "[advisor]") {
@@ -130,6 +149,7 @@ TEST_CASE("advice meets the target, is the cheapest resolution, and holds at uns
     CHECK(candidate.bytes > 0);
     if (candidate.maxErrors.worst() <= target) CHECK(candidate.microsecondsPerQuery >= advice->best.microsecondsPerQuery);
   }
+  checkTextureEstimates(sphere, *advice, settings.sampling);
   if (advice->best.method != HydrostaticsMethod::Exact) {
     // Cheapest: the next lower resolution misses the target (over the same sample).
     if (advice->best.resolution > 32) {
@@ -153,6 +173,8 @@ TEST_CASE("a target no texture resolution reaches picks the exact path", "[advis
   CHECK(advice->best.method == HydrostaticsMethod::Exact);
   CHECK(advice->best.resolution == 0);
   CHECK(methodName(advice->best.method) == "exact");
+  // The exact path won because the texture estimates are right, not because they are broken.
+  checkTextureEstimates(box, *advice, settings.sampling);
 }
 
 TEST_CASE("the advisor rejects bad targets, open meshes and bad settings with a message", "[advisor]") {
