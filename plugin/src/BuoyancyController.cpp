@@ -136,6 +136,8 @@ BuoyancyController::~BuoyancyController() {
 Status BuoyancyController::setLiquid(LiquidSettings liquid) {
   if (Status s = liquid.validate(); !s) return s;
   liquid_ = std::move(liquid);
+  // A body asleep in the old liquid is skipped as unchanged: wake it to meet the new one.
+  for (const auto& floating : bodies_) floating->body->activate(true);
   return Ok{};
 }
 

@@ -201,6 +201,36 @@ TEST_CASE("mass model: a growing body keeps its mass or its density, as its sett
   CHECK(keepsMass.shellDensity() == Approx(s * s).epsilon(tolerance));
 }
 
+TEST_CASE("mass model: a point mass's mass changed at run time moves the centre by the lever rule", "[closed-form]") {
+  // A 1 m cube of 1000 kg centred at the origin and a point mass m at (1, 0, 0): the centre sits at
+  // m / (1000 + m) along x. Changing m is one new revision and no texel pass.
+  const Mesh cube = prim::box({1.0, 1.0, 1.0});
+  MassModel model(texturesOf(cube, 32), Eigen::Vector3d::Zero());
+  PointMass cargo;
+  cargo.mass = 100.0;
+  cargo.position = Eigen::Vector3d(1.0, 0.0, 0.0);
+  const auto index = model.addPointMass(cargo);
+  REQUIRE(index.ok());
+  REQUIRE(model.properties().ok());
+  const std::uint64_t passes = model.texelPasses(), revision = model.revision();
+  REQUIRE(model.setPointMassMass(*index, 500.0).ok());
+  CHECK(model.revision() == revision + 1);
+  const auto heavier = model.properties();
+  REQUIRE(heavier.ok());
+  // The cube's volume and centre from flat texels: float rounding (1e-6).
+  CHECK(heavier->mass == Approx(1500.0).epsilon(1e-6));
+  CHECK(heavier->centerOfMass.x() == Approx(500.0 / 1500.0).epsilon(1e-6));
+  CHECK(model.texelPasses() == passes);
+  CHECK(model.pointMasses()[*index].mass == 500.0);
+  // The same mass again changes nothing; bad values are refused and change nothing.
+  REQUIRE(model.setPointMassMass(*index, 500.0).ok());
+  CHECK(model.revision() == revision + 1);
+  CHECK_FALSE(model.setPointMassMass(*index, -1.0).ok());
+  CHECK_FALSE(model.setPointMassMass(*index, std::nan("")).ok());
+  CHECK_FALSE(model.setPointMassMass(7, 1.0).ok());
+  CHECK(model.pointMasses()[*index].mass == 500.0);
+}
+
 TEST_CASE("mass model: bad values are errors that name them") {
   const Mesh box = prim::box({1.0, 1.0, 1.0});
   MassModel model(texturesOf(box, 16), Eigen::Vector3d::Zero());

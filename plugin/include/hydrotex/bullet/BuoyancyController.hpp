@@ -152,7 +152,8 @@ class BuoyancyController : public btActionInterface {
 
   /// The liquid.
   const LiquidSettings& liquid() const { return liquid_; }
-  /// Replaces the liquid (e.g. a new surface); bodies keep their bakes.
+  /// Replaces the liquid (e.g. a new surface); bodies keep their bakes and are woken (a body at
+  /// rest in the old liquid need not be in the new one). Error, nothing changed, for a bad liquid.
   Status setLiquid(LiquidSettings liquid);
   /// Simulated time (s) passed to the liquid surface; advanced by each updateAction.
   double time() const { return time_; }
