@@ -272,7 +272,7 @@ Expected<FloodingStepResult> LiquidGraph::step(const LiquidSurface& surface, con
     return result;
   }
   const double rhoG = surface.density() * query.gravity;
-  // Darcy (paper eq. 9; REFERENCES.md): Q = k A dp / (mu L) = T dp / mu, dp = rho g (head difference).
+  // Darcy (paper eq. 9; docs/references.md): Q = k A dp / (mu L) = T dp / mu, dp = rho g (head difference).
   const double conductancePerT = rhoG / query.viscosity;  // (m^3/s per m of head) per m^3 of T
 
   // Levels, free-surface areas and bounds of every node at this pose.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// A changing mass model (DESIGN.md "Mass model"; paper section 2.3 and figure 13). The texel part
+// A changing mass model (docs/design.md "Mass model"; paper section 2.3 and figure 13). The texel part
 // (solid, shell, density map) is one TextureMassIntegrator pass (or, for a deforming body that
 // follows triangles, TriangleMassIntegrator's per-triangle sums); point masses are added with the
 // parallel-axis theorem (Steiner): about the combined centre C, a part of mass m, centre c and
@@ -50,18 +50,22 @@ MassModel::MassModel(const SurfaceTextures& textures, const Eigen::Vector3d& ref
   distributed_.referencePoint = referencePoint;
 }
 
-Status MassModel::setSolidDensity(double density) {
+Status MassModel::setSolidDensity(double density, Conserved conserved) {
   if (!finiteNonNegative(density))
     return Error{"solid density " + std::to_string(density) + " kg/m^3 must be >= 0 and finite"};
+  solidConserved_ = conserved;
+  solidMass_ = density * volume();
   if (density == distributed_.solidDensity) return Ok{};
   distributed_.solidDensity = density;
   distributedRevision_ = ++revision_;
   return Ok{};
 }
 
-Status MassModel::setShellDensity(double density) {
+Status MassModel::setShellDensity(double density, Conserved conserved) {
   if (!finiteNonNegative(density))
     return Error{"shell density " + std::to_string(density) + " kg/m^2 must be >= 0 and finite"};
+  shellConserved_ = conserved;
+  shellMass_ = density * area();
   if (density == distributed_.shellDensity) return Ok{};
   distributed_.shellDensity = density;
   distributedRevision_ = ++revision_;
@@ -130,8 +134,17 @@ Status MassModel::setGeometry(const SurfaceTextures& textures) {
     return Error{"deformed surface has " + std::to_string(textures.size()) + " texels, the density map " +
                  std::to_string(integrator_.size())};
   integrator_.update(textures);  // in place: a deforming body allocates nothing per step
+  conserveMasses();
   distributedRevision_ = ++revision_;
   return Ok{};
+}
+
+void MassModel::conserveMasses() {
+  // Matter does not appear because a mesh grows: a part that keeps its mass spreads it over the
+  // new volume or area. A geometry with no volume or area keeps the last density (its mass is
+  // then zero whatever the density, which properties() reports).
+  if (solidConserved_ == Conserved::Mass && volume() > 0.0) distributed_.solidDensity = solidMass_ / volume();
+  if (shellConserved_ == Conserved::Mass && area() > 0.0) distributed_.shellDensity = shellMass_ / area();
 }
 
 Status MassModel::followTriangles(const SurfaceBake& bake, const UvLayout& layout, const Mesh& mesh) {
@@ -145,6 +158,9 @@ Status MassModel::followTriangles(const SurfaceBake& bake, const UvLayout& layou
   mapPending_ = true;  // the map (if any) is yet to be handed over
   // The texel pass is not used any more: release its per-texel arrays.
   integrator_ = TextureMassIntegrator(SurfaceTextures{}, referencePoint_);
+  // A change of method, not of geometry: the kept masses are the densities over the exact sums.
+  solidMass_ = distributed_.solidDensity * volume();
+  shellMass_ = distributed_.shellDensity * area();
   distributedRevision_ = ++revision_;
   return Ok{};
 }
@@ -153,6 +169,7 @@ Status MassModel::setGeometry(const Mesh& mesh) {
   if (!triangles_) return Error{"mass model: setGeometry(mesh) needs followTriangles first"};
   // A failed update leaves the integrator without geometry: the next properties() says so.
   Status updated = triangles_->update(mesh);
+  if (updated) conserveMasses();
   distributedRevision_ = ++revision_;
   return updated;
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// The exact texel bake (DESIGN.md "Exact texels"): every texel square is clipped against every UV
+// The exact texel bake (docs/design.md "Exact texels"): every texel square is clipped against every UV
 // triangle that overlaps it (Sutherland-Hodgman against the triangle's three half-planes, in
 // double), and the pieces are kept so that PT and VAT can be re-evaluated from moved vertices.
 #include "hydrotex/SurfaceBake.hpp"

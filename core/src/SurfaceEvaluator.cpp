@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// Per-step PT/VAT re-evaluation from a kept bake (DESIGN.md "Exact texels"). The same sums as
+// Per-step PT/VAT re-evaluation from a kept bake (docs/design.md "Exact texels"). The same sums as
 // evaluateSurface (SurfaceBake.cpp): a piece's centroid and area vector are linear in its
 // triangle's vertices (barycentric centroid, area fraction of the triangle's area vector), and the
 // texel edges are the UV-to-surface Jacobian of the pieces' triangles averaged by UV area. What

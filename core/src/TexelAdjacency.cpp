@@ -7,7 +7,7 @@
 //    walked on both sides at once (González and Patow 2009, continuity mapping); every stretch of
 //    it that lies in one texel on each side pairs those two texels with the stretch's 3D length.
 // Conductance g_ij = l_ij / d_ij is the two-point flux approximation of Fick's law (finite
-// volumes), exact for orthogonal texel grids (REFERENCES.md "Fick").
+// volumes), exact for orthogonal texel grids (docs/references.md "Fick").
 // Work is in texel coordinates: X = u * width, Y = (1 - v) * height, texel (row, column) is the
 // square [column, column + 1] x [row, row + 1] (Mesh.hpp's row convention).
 #include "hydrotex/TexelAdjacency.hpp"

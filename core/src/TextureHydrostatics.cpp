@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 /// @file TextureHydrostatics.cpp
 /// Hydrostatics as texel sums (paper section 2.3.1, generalised to pressure integration as in
-/// DESIGN.md): each texel is the planar patch p + s eU + t eV, s, t in [-1/2, 1/2], and the part of
+/// docs/design.md): each texel is the planar patch p + s eU + t eV, s, t in [-1/2, 1/2], and the part of
 /// it under the surface is weighted exactly for that patch (HydrostaticSums.hpp,
 /// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1).
 

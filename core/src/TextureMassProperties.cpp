@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Zlib
-// Mass properties from texel sums (paper sections 2.1-2.3; DESIGN.md "Mass model").
+// Mass properties from texel sums (paper sections 2.1-2.3; docs/design.md "Mass model").
 // Solid: the texel of area vector A at position p and the reference point c bound a cone of
 // volume v = (p - c) . A / 3 (divergence theorem: the cones tile the solid, signed, so that the
-// sum of v is the enclosed volume exactly; REFERENCES.md "Mass properties"), with its centroid at
+// sum of v is the enclosed volume exactly; docs/references.md "Mass properties"), with its centroid at
 // c + 3/4 (p - c). Its second moment about c: with q = c + s (x - c), s in [0, 1], over a flat
 // base B of distance h from c, dV = s^2 h ds dA and
 //   integral (q - c)(q - c)^T dV = (1/5) h integral_B (x - c)(x - c)^T dA

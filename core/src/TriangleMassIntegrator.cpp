@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// Mass properties per triangle (issue 5; DESIGN.md "Mass model"): the texel path's cone sums
+// Mass properties per triangle (issue 5; docs/design.md "Mass model"): the texel path's cone sums
 // (TextureMassProperties.cpp) collapsed onto the triangles that the texel pieces belong to.
 // Cone over a flat base B of area vector a B from apex c (Mirtich 1996, and the derivation at the
 // top of TextureMassProperties.cpp): with q = c + s (x - c), s in [0, 1], dV = s^2 h ds dA and

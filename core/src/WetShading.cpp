@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 // Lekner and Dorf 1988, "Why some things are darker when wet", Applied Optics 27(7), 1278-1280:
 // eq. for R_bar(n) (isotropic internal reflectance of a smooth liquid surface), p = 1 - (1 - R_bar)
-// / n^2, absorbed fraction A = (1 - R1) a / (1 - p (1 - a)). Worked numbers in REFERENCES.md.
+// / n^2, absorbed fraction A = (1 - R1) a / (1 - p (1 - a)). Worked numbers in docs/references.md.
 // The film transmittance T per crossing (coloured liquids) multiplies every pass through the film:
 // in and out once per bounce, hence T^2 in the numerator and in the geometric series.
 #include "hydrotex/WetShading.hpp"

@@ -2,12 +2,12 @@
 // The liquid texture step (paper section 4.2).
 //  - Absorption: Darcy's law (paper eq. 9, Muskat), flux per area q = k dp / (mu L). The pores'
 //    back-pressure grows with their saturation S, dp = P (1 - S), so under a constant head P a
-//    texel fills as S(t) = 1 - exp(-t / tau), tau = mu L C / (k P) (REFERENCES.md "compartment
+//    texel fills as S(t) = 1 - exp(-t / tau), tau = mu L C / (k P) (docs/references.md "compartment
 //    filling"); integrated exactly over the step, so it is stable at any dt.
 //  - Diffusion: Fick's first law J = -D grad phi on the texel graph (TexelAdjacency), written as
 //    antisymmetric pair fluxes F_ij = D g_ij (phi_i - phi_j) dt so that every volume leaving one
 //    texel enters another (seams included). Explicit sub-steps while dt / (min_i A_i / sum_j D g_ij)
-//    is small (that bound keeps phi >= 0, REFERENCES.md), backward Euler otherwise: (M + dt D L)
+//    is small (that bound keeps phi >= 0, docs/references.md), backward Euler otherwise: (M + dt D L)
 //    phi' = M phi solved by conjugate gradients (the matrix is symmetric positive definite), then
 //    the pair fluxes of phi' are applied to phi, so the volume is conserved whatever the solver's
 //    residual.

@@ -68,7 +68,7 @@ struct Shape {
 };
 
 /// Area below the chord y = h of a circle of radius r centred at the origin, and the first moment
-/// of that area about y = 0: A = r^2 acos(-h/r) + h sqrt(r^2 - h^2) (REFERENCES.md, horizontal
+/// of that area about y = 0: A = r^2 acos(-h/r) + h sqrt(r^2 - h^2) (docs/references.md, horizontal
 /// cylinder); Int y dA = Int_{-r}^{h} 2 y sqrt(r^2 - y^2) dy = -(2/3) (r^2 - h^2)^(3/2).
 std::pair<double, double> circleSegment(double r, double h) {
   h = std::clamp(h, -r, r);
@@ -84,7 +84,7 @@ std::vector<Shape> makeShapes(bool quick) {
     const double r = 1.0;
     Shape sphere{"sphere", primitives::uvSphere(r, 128, 64), 4.0 / 3.0 * kPi * r * r * r, {}};
     // Cap of depth d: V = pi d^2 (3r - d) / 3, centroid 3 (2r - d)^2 / (4 (3r - d)) below the
-    // centre (REFERENCES.md); any rotation.
+    // centre (docs/references.md); any rotation.
     sphere.closedForm = [r](const HydrostaticsQuery& q) -> std::optional<ClosedForm> {
       const Eigen::Vector3d& c = q.pose.translation;
       const double d = std::clamp(r - c.y(), 0.0, 2.0 * r);
@@ -124,7 +124,7 @@ std::vector<Shape> makeShapes(bool quick) {
     Shape wigley{"wigley-hull", primitives::wigleyHull(length, breadth, draft, 128, 32), 4.0 / 9.0 * length * breadth * draft, {}};
     // Breadth 2 y(x, z) = B (1 - (2x/L)^2)(1 - (z/T)^2), z the depth below the deck: the x
     // integral is 2L/3, so V = B (2L/3) Int_{z0}^{T} (1 - z^2/T^2) dz (4/9 L B T for z0 = 0,
-    // REFERENCES.md), and the centroid's depth is Int z (1 - z^2/T^2) dz over the same integral.
+    // docs/references.md), and the centroid's depth is Int z (1 - z^2/T^2) dz over the same integral.
     wigley.closedForm = [length, breadth, draft](const HydrostaticsQuery& q) -> std::optional<ClosedForm> {
       if (!isIdentity(q.pose)) return std::nullopt;
       const double z0 = std::clamp(q.pose.translation.y(), 0.0, draft);  // depth of the water below the deck

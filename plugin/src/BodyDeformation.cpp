@@ -164,7 +164,7 @@ void BuoyancyController::deform(FloatingBody& floating) {
     for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = state.rest.positions[i].cwiseProduct(scale);
   }
   ++statistics_.deformations;
-  // PT/VAT from the moved vertices through the kept texel pieces (DESIGN.md "Exact texels").
+  // PT/VAT from the moved vertices through the kept texel pieces (docs/design.md "Exact texels").
   // In place, allocation-free: the evaluator, the hydrostatics and the mass model reuse their buffers.
   state.evaluator.evaluate(*state.current, state.textures);
   if (floating.texture && !floating.texture->update(state.textures)) ++statistics_.failedQueries;

@@ -137,6 +137,8 @@ BuoyancyController::~BuoyancyController() {
 Status BuoyancyController::setLiquid(LiquidSettings liquid) {
   if (Status s = liquid.validate(); !s) return s;
   liquid_ = std::move(liquid);
+  // A body asleep in the old liquid is skipped as unchanged: wake it to meet the new one.
+  for (const auto& floating : bodies_) floating->body->activate(true);
   return Ok{};
 }
 
@@ -226,7 +228,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
     }
     if (wantsMassModel) {
-      // Mass model (DESIGN.md "Mass model"): cones from the bounding box's centre.
+      // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.
       MassModel& model = floating->massModel.emplace(geometry->textures, floating->boundsCenter);
       // A deforming body's mass follows its moved vertices per triangle (O(triangles) a step,
       // exact for uniform solids and shells) instead of a pass over its texels.
@@ -234,8 +236,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
         if (Status s = model.followTriangles(geometry->bake, geometry->atlas.layout, mesh); !s)
           return Error{"deformation: " + s.error().message};
       }
-      if (Status s = model.setSolidDensity(density); !s) return Error{"density: " + s.error().message};
-      if (Status s = model.setShellDensity(settings.shellDensity); !s) return Error{"shellDensity: " + s.error().message};
+      // What a deformation keeps (FloatingBodySettings::mass): a body given by its density keeps
+      // it; one given by its mass (or Bullet's) keeps that mass; a shell keeps its mass.
+      const Conserved solidConserved = settings.density ? Conserved::Density : Conserved::Mass;
+      if (Status s = model.setSolidDensity(density, solidConserved); !s) return Error{"density: " + s.error().message};
+      if (Status s = model.setShellDensity(settings.shellDensity, Conserved::Mass); !s)
+        return Error{"shellDensity: " + s.error().message};
       if (settings.densityMap) {
         std::vector<float> texelDensity = resampleToTexels(*settings.densityMap, geometry->bake);
         const double low = settings.densityRange[0], high = settings.densityRange[1];
@@ -250,7 +256,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       model.advanceTo(time_);
       if (flooding) {
         // Paper section 3: the liquid graph, its permeable texels from the PMT, and one point mass
-        // per node that carries the node's liquid (DESIGN.md "Mass model").
+        // per node that carries the node's liquid (docs/design.md "Mass model").
         const FloodingBodySettings& floodingSettings = settings.flooding;
         std::vector<float> permeability;
         if (floodingSettings.permeabilityMap) permeability = resampleToTexels(*floodingSettings.permeabilityMap, geometry->bake);
@@ -400,7 +406,7 @@ Status BuoyancyController::applyMassProperties(FloatingBody& found, const MassPr
   const btTransform bodyWorldBefore = body->getCenterOfMassTransform();
   const btTransform meshWorld = firstTime ? bodyWorldBefore : bodyWorldBefore * floating->bodyToMesh.inverse();
 
-  // Momentum before (DESIGN.md "Bullet's frame"): linear P = m v; angular about the new centre
+  // Momentum before (docs/design.md "Bullet's frame"): linear P = m v; angular about the new centre
   // L = I w + m (c_old - c_new) x v.
   const double oldMass = firstTime ? 0.0 : floating->report.massProperties.mass;
   const Eigen::Vector3d v = toEigen(body->getLinearVelocity());

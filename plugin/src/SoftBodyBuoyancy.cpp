@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// Buoyancy of Bullet soft bodies through texel pressure forces (issue 5; DESIGN.md "Pressure
+// Buoyancy of Bullet soft bodies through texel pressure forces (issue 5; docs/design.md "Pressure
 // integration", "Exact texels"). The force on a texel is -p A (A its vector area, outward); the
 // texel's pieces carry -p fraction A_face each, and a piece's force acts at its centroid, which is
 // the barycentric combination (1 - b1 - b2, b1, b2) of its face's nodes: giving the force to the

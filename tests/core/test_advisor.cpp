@@ -48,6 +48,25 @@ HydrostaticsErrors textureErrors(const Mesh& mesh, int resolution, const QuerySa
   return worst;
 }
 
+/// Every texture candidate's error estimate, whichever method wins, against the worst errors over
+/// the same sample recomputed here (the same bake, the exact path as reference). Only the order of
+/// the texel sums may differ (hierarchy or brute force: 1e-9 of the total volume, test_texture_
+/// hydrostatics), so 1e-8 absolute on errors relative to the total volume and the size.
+void checkTextureEstimates(const Mesh& mesh, const Advice& advice, const QuerySampling& sampling) {
+  int checked = 0;
+  for (const MethodMeasurement& candidate : advice.candidates) {
+    if (candidate.method == HydrostaticsMethod::Exact) continue;
+    CAPTURE(methodName(candidate.method), candidate.resolution);
+    const HydrostaticsErrors measured = textureErrors(mesh, candidate.resolution, sampling);
+    CHECK(measured.worst() > 0.0);
+    CHECK(candidate.maxErrors.volume == Approx(measured.volume).margin(1e-8));
+    CHECK(candidate.maxErrors.centerOfBuoyancy == Approx(measured.centerOfBuoyancy).margin(1e-8));
+    CHECK(candidate.maxErrors.force == Approx(measured.force).margin(1e-8));
+    ++checked;
+  }
+  CHECK(checked > 0);
+}
+
 }  // namespace
 
 TEST_CASE("the sampled poses put the water at the stated fractions of the body's height", "[advisor]") {
@@ -61,7 +80,7 @@ TEST_CASE("the sampled poses put the water at the stated fractions of the body's
   const FlatSurface water(0.0);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     // Water at (k + 1) / 4 of the height: a cap of depth d = 2 r (k + 1) / 4, V = pi d^2 (3r - d) / 3
-    // (REFERENCES.md). The mesh is a polyhedron inscribed in the sphere: its volume is short by
+    // (docs/references.md). The mesh is a polyhedron inscribed in the sphere: its volume is short by
     // about (2 pi / 96)^2 / 2 = 0.2 %, so 1 % of the sphere's volume bounds the difference.
     const double depth = 2.0 * radius * double(i % 3 + 1) / 4.0;
     const double cap = kPi * depth * depth * (3.0 * radius - depth) / 3.0;
@@ -131,6 +150,7 @@ TEST_CASE("advice meets the target, is the cheapest resolution, and holds at uns
     CHECK(candidate.bytes > 0);
     if (candidate.maxErrors.worst() <= target) CHECK(candidate.microsecondsPerQuery >= advice->best.microsecondsPerQuery);
   }
+  checkTextureEstimates(sphere, *advice, settings.sampling);
   if (advice->best.method != HydrostaticsMethod::Exact) {
     // Cheapest: the next lower resolution misses the target (over the same sample).
     if (advice->best.resolution > 32) {
@@ -154,6 +174,8 @@ TEST_CASE("a target no texture resolution reaches picks the exact path", "[advis
   CHECK(advice->best.method == HydrostaticsMethod::Exact);
   CHECK(advice->best.resolution == 0);
   CHECK(methodName(advice->best.method) == "exact");
+  // The exact path won because the texture estimates are right, not because they are broken.
+  checkTextureEstimates(box, *advice, settings.sampling);
 }
 
 TEST_CASE("the advisor rejects bad targets, open meshes and bad settings with a message", "[advisor]") {

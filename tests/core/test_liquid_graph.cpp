@@ -49,7 +49,7 @@ ManualLiquidGraph oneNode() {
 TEST_CASE("liquid graph: a compartment under a constant head fills as 1 - exp(-t/tau) at any step") {
   // Unit box, bottom at y = -1, top at the outside level y = 0: the hole in the floor sees the
   // head P0 = rho g H (H = 1 m) less the inside level's pressure rho g h, so with V = A_floor h,
-  // S = h / H obeys dS/dt = (1 - S) / tau, tau = mu L V_cap / (k A P0) (REFERENCES.md).
+  // S = h / H obeys dS/dt = (1 - S) / tau, tau = mu L V_cap / (k A P0) (docs/references.md).
   const Mesh box = prim::box(Eigen::Vector3d(1, 1, 1));
   const SurfaceTextures tex = texturesOf(box, 64);
   const std::vector<float> hole = floorHole(tex, 0.1);
@@ -141,7 +141,7 @@ TEST_CASE("liquid graph: conservation and bounds over 10,000 steps of a rocking,
   }
   LiquidGraphBuildSettings settings;
   settings.permeability = 1.0e-8;
-  settings.porosity = 0.85;  // machinery spaces (REFERENCES.md)
+  settings.porosity = 0.85;  // machinery spaces (docs/references.md)
   auto graph = buildAutomaticLiquidGraph(box, tex, pmt, 8, settings);
   REQUIRE(graph.ok());
   REQUIRE(graph->nodes().size() >= 2);

@@ -131,7 +131,7 @@ TEST_CASE("mass model: a deformed surface changes the volume, the mass follows")
   auto bake = bakeSurface(box, box.uv, settings);
   REQUIRE(bake.ok());
   MassModel model(evaluateSurface(*bake, box, box.uv), Eigen::Vector3d::Zero());
-  REQUIRE(model.setShellDensity(3.0).ok());
+  REQUIRE(model.setShellDensity(3.0, Conserved::Density).ok());  // the areal density is kept
   Mesh scaled = box;
   for (Eigen::Vector3d& p : scaled.positions) p = p.cwiseProduct(Eigen::Vector3d(2.0, 1.0, 1.5));
   REQUIRE(model.setGeometry(evaluateSurface(*bake, scaled, box.uv)).ok());
@@ -140,6 +140,96 @@ TEST_CASE("mass model: a deformed surface changes the volume, the mass follows")
   // 2 x 1 x 1.5 box: volume 3, area 2 (2 + 3 + 1.5) = 13; PT/VAT exact on flat texels (1e-6).
   CHECK(model.volume() == Approx(3.0).epsilon(1e-6));
   CHECK(after->mass == Approx(1000.0 * 3.0 + 3.0 * 13.0).epsilon(1e-6));
+}
+
+TEST_CASE("mass model: a growing body keeps its mass or its density, as its setters asked", "[closed-form]") {
+  // A 1 m cube grown to s = 1.2 (volume s^3, area s^2): a solid given by its mass keeps m, by its
+  // density m s^3; a shell keeps its mass sigma A (an envelope stretching thinner) unless asked
+  // to keep sigma (sigma A s^2). The texel path is exact on flat texels (PT/VAT: 1e-6), the
+  // triangle path polyhedral (double sums: 1e-9).
+  const Mesh cube = prim::box({1.0, 1.0, 1.0});
+  const double s = 1.2, solidMass = 500.0, sigma = 3.0, area = 6.0;
+  Mesh grown = cube;
+  for (Eigen::Vector3d& p : grown.positions) p *= s;
+  BakeSettings settings;
+  settings.width = settings.height = 32;
+  auto bake = bakeSurface(cube, cube.uv, settings);
+  REQUIRE(bake.ok());
+  const bool followTriangles = GENERATE(false, true);
+  const double tolerance = followTriangles ? 1e-9 : 1e-6;
+  CAPTURE(followTriangles);
+  auto model = [&](Conserved solid, Conserved shell) {
+    MassModel made(evaluateSurface(*bake, cube, cube.uv), Eigen::Vector3d::Zero());
+    if (followTriangles) REQUIRE(made.followTriangles(*bake, cube.uv, cube).ok());
+    REQUIRE(made.setSolidDensity(solidMass, solid).ok());  // 1 m^3: density 500 is mass 500
+    REQUIRE(made.setShellDensity(sigma, shell).ok());
+    return made;
+  };
+  auto grow = [&](MassModel& m, const Mesh& mesh) {
+    REQUIRE((followTriangles ? m.setGeometry(mesh) : m.setGeometry(evaluateSurface(*bake, mesh, cube.uv))).ok());
+  };
+  MassModel keepsMass = model(Conserved::Mass, Conserved::Mass);
+  MassModel keepsDensity = model(Conserved::Density, Conserved::Density);
+  CHECK(keepsMass.solidConserved() == Conserved::Mass);
+  CHECK(keepsDensity.shellConserved() == Conserved::Density);
+  grow(keepsMass, grown);
+  grow(keepsDensity, grown);
+  const auto kept = keepsMass.properties();
+  const auto added = keepsDensity.properties();
+  REQUIRE(kept.ok());
+  REQUIRE(added.ok());
+  CHECK(kept->mass == Approx(solidMass + sigma * area).epsilon(tolerance));
+  CHECK(keepsMass.solidDensity() == Approx(solidMass / (s * s * s)).epsilon(tolerance));
+  CHECK(keepsMass.shellDensity() == Approx(sigma / (s * s)).epsilon(tolerance));
+  CHECK(added->mass == Approx(solidMass * s * s * s + sigma * area * s * s).epsilon(tolerance));
+  CHECK(keepsDensity.solidDensity() == solidMass);
+  // The default: a solid keeps its density, a shell its mass.
+  MassModel defaults(evaluateSurface(*bake, cube, cube.uv), Eigen::Vector3d::Zero());
+  if (followTriangles) REQUIRE(defaults.followTriangles(*bake, cube.uv, cube).ok());
+  REQUIRE(defaults.setSolidDensity(solidMass).ok());
+  REQUIRE(defaults.setShellDensity(sigma).ok());
+  grow(defaults, grown);
+  const auto byDefault = defaults.properties();
+  REQUIRE(byDefault.ok());
+  CHECK(byDefault->mass == Approx(solidMass * s * s * s + sigma * area).epsilon(tolerance));
+  // The user changes the model on the grown body: the new shell's mass sigma' (s^2 A) is what is
+  // kept from then on; shrinking back spreads it over the rest area.
+  REQUIRE(keepsMass.setShellDensity(1.0).ok());
+  grow(keepsMass, cube);
+  const auto shrunk = keepsMass.properties();
+  REQUIRE(shrunk.ok());
+  CHECK(shrunk->mass == Approx(solidMass + 1.0 * area * s * s).epsilon(tolerance));
+  CHECK(keepsMass.shellDensity() == Approx(s * s).epsilon(tolerance));
+}
+
+TEST_CASE("mass model: a point mass's mass changed at run time moves the centre by the lever rule", "[closed-form]") {
+  // A 1 m cube of 1000 kg centred at the origin and a point mass m at (1, 0, 0): the centre sits at
+  // m / (1000 + m) along x. Changing m is one new revision and no texel pass.
+  const Mesh cube = prim::box({1.0, 1.0, 1.0});
+  MassModel model(texturesOf(cube, 32), Eigen::Vector3d::Zero());
+  PointMass cargo;
+  cargo.mass = 100.0;
+  cargo.position = Eigen::Vector3d(1.0, 0.0, 0.0);
+  const auto index = model.addPointMass(cargo);
+  REQUIRE(index.ok());
+  REQUIRE(model.properties().ok());
+  const std::uint64_t passes = model.texelPasses(), revision = model.revision();
+  REQUIRE(model.setPointMassMass(*index, 500.0).ok());
+  CHECK(model.revision() == revision + 1);
+  const auto heavier = model.properties();
+  REQUIRE(heavier.ok());
+  // The cube's volume and centre from flat texels: float rounding (1e-6).
+  CHECK(heavier->mass == Approx(1500.0).epsilon(1e-6));
+  CHECK(heavier->centerOfMass.x() == Approx(500.0 / 1500.0).epsilon(1e-6));
+  CHECK(model.texelPasses() == passes);
+  CHECK(model.pointMasses()[*index].mass == 500.0);
+  // The same mass again changes nothing; bad values are refused and change nothing.
+  REQUIRE(model.setPointMassMass(*index, 500.0).ok());
+  CHECK(model.revision() == revision + 1);
+  CHECK_FALSE(model.setPointMassMass(*index, -1.0).ok());
+  CHECK_FALSE(model.setPointMassMass(*index, std::nan("")).ok());
+  CHECK_FALSE(model.setPointMassMass(7, 1.0).ok());
+  CHECK(model.pointMasses()[*index].mass == 500.0);
 }
 
 TEST_CASE("mass model: bad values are errors that name them") {
@@ -175,7 +265,7 @@ TEST_CASE("mass model: a deforming body that follows triangles recomputes per mo
   const Eigen::Vector3d reference(0.0, 0.05, 0.0);
   MassModel model(evaluateSurface(*bake, rest, rest.uv), reference);
   REQUIRE(model.setSolidDensity(400.0).ok());
-  REQUIRE(model.setShellDensity(2.0).ok());
+  REQUIRE(model.setShellDensity(2.0, Conserved::Density).ok());  // both densities kept: sums checked against them
   REQUIRE(model.properties().ok());
   CHECK(model.texelPasses() == 1);
   CHECK_FALSE(model.followsTriangles());

@@ -96,7 +96,7 @@ TEST_CASE("A flat plate's graph is the regular grid with unit conductances", "[a
     REQUIRE(graph.conductance[p] == Approx(1.0).epsilon(1e-5));
     REQUIRE(graph.interfaceLength[p] == Approx(2.0 / n).epsilon(1e-9));
   }
-  // Explicit bound A / (D sum g) = h^2 / (4 D) for interior texels (REFERENCES.md).
+  // Explicit bound A / (D sum g) = h^2 / (4 D) for interior texels (docs/references.md).
   const double h = 2.0 / n, diffusivity = 1e-3;
   CHECK(graph.stableTimeStep(diffusivity) == Approx(h * h / (4.0 * diffusivity)).epsilon(1e-5));  // float centroids
 }

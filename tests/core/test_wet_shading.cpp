@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// Wet appearance against Lekner and Dorf's worked numbers (REFERENCES.md).
+// Wet appearance against Lekner and Dorf's worked numbers (docs/references.md).
 #include <catch2/catch.hpp>
 
 #include "hydrotex/WetShading.hpp"
@@ -31,7 +31,7 @@ TEST_CASE("RGB darkens and saturates; a film reflects more than a very dark surf
   // Darker channels darken more (relative), as in the paper's figure 7.
   CHECK(wet.z() / dry.z() < wet.y() / dry.y());
   CHECK(wet.y() / dry.y() < wet.x() / dry.x());
-  // Below a dry albedo of about 0.04 the total wet albedo exceeds the dry one (REFERENCES.md).
+  // Below a dry albedo of about 0.04 the total wet albedo exceeds the dry one (docs/references.md).
   CHECK(wetAlbedo(0.03, 1.33).total > 0.03);
   CHECK(wetAlbedo(0.05, 1.33).total < 0.05);
   // A dry texel keeps its colour, a saturated one takes the wet colour.

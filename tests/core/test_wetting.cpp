@@ -170,7 +170,7 @@ TEST_CASE("Darcy uptake against a constant head: S = 1 - exp(-t / tau)", "[wetti
       REQUIRE(texture.saturation(0) == Approx(1.0 - std::exp(-t / tau)).epsilon(1e-5));
     }
   }
-  // REFERENCES.md: k = 1e-12 m^2, A = 1 cm^2, dp = 1000 Pa, mu = 1e-3, L = 1 cm -> Q = 1e-8 m^3/s.
+  // docs/references.md: k = 1e-12 m^2, A = 1 cm^2, dp = 1000 Pa, mu = 1e-3, L = 1 cm -> Q = 1e-8 m^3/s.
   // Initial rate per area k dp / (mu L) over a step short against tau (relative error dt / 2 tau).
   material.layerThickness = 0.01;
   LiquidTexture texture = dryTexture(body.textures.size(), material);

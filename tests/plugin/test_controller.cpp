@@ -145,6 +145,100 @@ TEST_CASE("changing mass and centre of mass keeps the shape in place and the mom
   CHECK_FALSE(world.controller().setMassProperties(body, bad).ok());
 }
 
+namespace {
+
+/// A btIDebugDraw that keeps the lines it is given.
+class LineRecorder : public btIDebugDraw {
+ public:
+  struct Line {
+    btVector3 from, to, color;
+  };
+  std::vector<Line> lines;
+  void drawLine(const btVector3& from, const btVector3& to, const btVector3& color) override {
+    lines.push_back({from, to, color});
+  }
+  void drawContactPoint(const btVector3&, const btVector3&, btScalar, int, const btVector3&) override {}
+  void reportErrorWarning(const char*) override {}
+  void draw3dText(const btVector3&, const char*) override {}
+  void setDebugMode(int) override {}
+  int getDebugMode() const override { return 0; }
+  /// The lines drawn in `color`.
+  std::vector<Line> inColor(const btVector3& color) const {
+    std::vector<Line> out;
+    for (const Line& line : lines)
+      if (line.color == color) out.push_back(line);
+    return out;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("setLiquid: a slab floating in water rises to the draft of a denser liquid", "[controller][closed-form]") {
+  // A 2 x 0.5 x 2 m slab of 500 kg/m^3 (wide: a cube would tip at these relative densities)
+  // floats at draft rho_b / rho h: 0.25 m in water, 0.2 m in a liquid of 1250 kg/m^3 (its centre
+  // 0.05 m above the surface). The texels of flat faces are exact; what the drag leaves of the
+  // heave after 20 s: measured 1.1e-5 m, bound 5e-5 m.
+  TestWorld world;
+  btRigidBody* slab = world.add(primitives::box({2.0, 0.5, 2.0}), solid(500.0, {Effect::Buoyancy, Effect::Drag},
+                                                                        HydrostaticsMethod::Texture, 32),
+                                btVector3(0, 0, 0));
+  REQUIRE(slab != nullptr);
+  for (int i = 0; i < 20 * 60; ++i) world.step(1.0 / 60.0);
+  CHECK(double(slab->getCenterOfMassPosition().y()) == Approx(0.25 - 0.25).margin(5e-5));
+  LiquidSettings denser;
+  denser.surface = std::make_shared<FlatSurface>(0.0, 1250.0);
+  REQUIRE(world.controller().setLiquid(denser).ok());
+  for (int i = 0; i < 20 * 60; ++i) world.step(1.0 / 60.0);
+  CHECK(double(slab->getCenterOfMassPosition().y()) == Approx(0.25 - 0.2).margin(5e-5));
+  CHECK(world.controller().report(slab)->hydrostatics.fluidDensity == 1250.0);
+  // A liquid that cannot be used is refused and the last one kept.
+  LiquidSettings none;
+  CHECK_FALSE(world.controller().setLiquid(none).ok());
+  world.step(1.0 / 60.0);
+  CHECK(world.controller().report(slab)->hydrostatics.fluidDensity == 1250.0);
+}
+
+TEST_CASE("debugDraw: the weight and buoyancy arrows and the waterline of a floating slab", "[controller][debug-draw]") {
+  // A 2 x 0.5 x 2 m slab at rest at its draft: one red weight arrow from the centre of mass along
+  // gravity, one green buoyancy arrow up from the centre of buoyancy, equal at rest; both drawn
+  // referenceLength / weight metres per newton (the largest extent, 2 m, for the weight). The
+  // waterline crosses the 8 side triangles: 8 blue segments on the surface, 8 m around in all.
+  TestWorld world;
+  btRigidBody* slab = world.add(primitives::box({2.0, 0.5, 2.0}), solid(500.0, {Effect::Buoyancy, Effect::Drag},
+                                                                        HydrostaticsMethod::Texture, 32),
+                                btVector3(0, 0, 0));
+  REQUIRE(slab != nullptr);
+  for (int i = 0; i < 20 * 60; ++i) world.step(1.0 / 60.0);
+  LineRecorder recorder;
+  world.controller().debugDraw(&recorder);
+  const auto weight = recorder.inColor(btVector3(1, 0, 0));
+  const auto buoyancy = recorder.inColor(btVector3(0, 1, 0));
+  const auto waterline = recorder.inColor(btVector3(0, 0, 1));
+  CHECK(recorder.lines.size() == weight.size() + buoyancy.size() + waterline.size());
+  REQUIRE(weight.size() == 1);
+  REQUIRE(buoyancy.size() == 1);
+  // Float vectors: 1e-5 m.
+  CHECK(double((weight[0].from - slab->getCenterOfMassPosition()).length()) < 1e-5);
+  const btVector3 down = weight[0].to - weight[0].from;
+  CHECK(double(down.y()) == Approx(-2.0).epsilon(1e-5));
+  CHECK(double(btVector3(down.x(), 0, down.z()).length()) < 1e-5);
+  // At rest the buoyancy carries the weight (what the drag leaves of the heave: 1e-4).
+  const btVector3 up = buoyancy[0].to - buoyancy[0].from;
+  CHECK(double(up.y()) == Approx(2.0).epsilon(1e-4));
+  CHECK(double(btVector3(up.x(), 0, up.z()).length()) < 1e-4);
+  CHECK(double(buoyancy[0].from.y()) == Approx(-0.125).margin(1e-4));  // half the draft down
+  CHECK(waterline.size() == 8);
+  double length = 0.0;
+  for (const auto& line : waterline) {
+    length += double((line.to - line.from).length());
+    CHECK(std::abs(double(line.from.y())) < 1e-4);
+    CHECK(std::abs(double(line.to.y())) < 1e-4);
+  }
+  CHECK(length == Approx(8.0).epsilon(1e-4));
+  // No drawer: nothing happens.
+  world.controller().debugDraw(nullptr);
+}
+
 TEST_CASE("a slowly heaving body is not put to sleep; a body at rest afloat may sleep", "[controller][sleep]") {
   TestWorld world;
   // Heave amplitude 5 cm, period 1.4 s: peak speed 0.22 m/s, far under Bullet's 0.8 m/s.

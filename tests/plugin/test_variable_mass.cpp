@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// The variable_mass effect against closed forms (REFERENCES.md "Hydrostatics"): a point mass
+// The variable_mass effect against closed forms (docs/references.md "Hydrostatics"): a point mass
 // moved sideways heels a floating box to tan(heel) = w d / (Delta GM); a shell box floats at the
 // draft its mass gives; nothing is recomputed when nothing changed; scene keys and their errors.
 
@@ -155,7 +155,7 @@ TEST_CASE("variable mass keeps the shape in place and the momentum when the cent
   btRigidBody* box = world.add(primitives::box({1.0, 1.0, 1.0}), settings, btVector3(0, 0, 0));
   REQUIRE(box != nullptr);
   for (int i = 0; i < 90; ++i) world.step(1.0 / 60.0);
-  // DESIGN.md "Bullet's frame": a mass moved from outside the dynamics (a path) never makes the
+  // docs/design.md "Bullet's frame": a mass moved from outside the dynamics (a path) never makes the
   // body jump: the shape stays where it is and its momentum (zero) is kept, so the hull does not
   // move while the centre of mass follows the runner to (m_r x_r) / M. Float transforms: 1e-5 m.
   const btTransform mesh = *world.controller().meshTransform(box);

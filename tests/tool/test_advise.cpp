@@ -101,6 +101,56 @@ TEST_CASE("advise picks the exact path when no texture resolution is good enough
   CHECK(advice["rel_error"].get<double>() == 0.0);
 }
 
+TEST_CASE("advise's texture error estimates are the errors `hydrostatics` gives at the sampled poses", "[tool][advise]") {
+  // Whichever method wins (here the exact path: no texture resolution reaches 1e-12), each texture
+  // candidate's estimate is the worst error over the sample: with one orientation (the mesh as
+  // modelled) and 3 depths, the water at 1/4, 1/2 and 3/4 of the sphere's height. Recomputed here
+  // through `hydrostatics` (texture at that resolution against exact): volume error over the total
+  // volume, centre-of-buoyancy error over the bounding box's diagonal. Same bake and sums, printed
+  // at full precision: 1e-9.
+  const ToolRun run = runTool("advise " + kSphere + " --error 1e-12 --max-resolution 64 --orientations 1 --depths 3 --json");
+  INFO("stderr: " << run.err);
+  REQUIRE(run.exitCode == 0);
+  const auto advice = nlohmann::json::parse(run.out);
+  CHECK(advice["method"] == "exact");
+  const ToolRun inspected = runTool("inspect " + kSphere + " --json");
+  REQUIRE(inspected.exitCode == 0);
+  const auto mesh = nlohmann::json::parse(inspected.out);
+  const double volume = mesh["volume"].get<double>();
+  const double low = mesh["bounds_min"][1].get<double>(), high = mesh["bounds_max"][1].get<double>();
+  double size2 = 0.0;
+  for (int c = 0; c < 3; ++c) size2 += std::pow(mesh["bounds_max"][c].get<double>() - mesh["bounds_min"][c].get<double>(), 2);
+  const double size = std::sqrt(size2);
+  int checked = 0;
+  for (const auto& candidate : advice["candidates"]) {
+    if (candidate["method"] != "texture") continue;
+    const int resolution = candidate["resolution"].get<int>();
+    CAPTURE(resolution);
+    double volumeError = 0.0, centerError = 0.0;
+    for (int d = 1; d <= 3; ++d) {
+      const double level = low + d / 4.0 * (high - low);
+      char translate[64];
+      std::snprintf(translate, sizeof translate, " --translate 0,%.17g,0 --json", -level);
+      const ToolRun texture = runTool("hydrostatics " + kSphere + " --method texture --resolution " + std::to_string(resolution) + translate);
+      const ToolRun exact = runTool("hydrostatics " + kSphere + " --method exact" + translate);
+      REQUIRE(texture.exitCode == 0);
+      REQUIRE(exact.exitCode == 0);
+      const auto t = nlohmann::json::parse(texture.out), e = nlohmann::json::parse(exact.out);
+      volumeError = std::max(volumeError, std::abs(t["submerged_volume"].get<double>() - e["submerged_volume"].get<double>()) / volume);
+      double distance2 = 0.0;
+      for (int c = 0; c < 3; ++c)
+        distance2 += std::pow(t["center_of_buoyancy"][c].get<double>() - e["center_of_buoyancy"][c].get<double>(), 2);
+      centerError = std::max(centerError, std::sqrt(distance2) / size);
+    }
+    CHECK(volumeError > 0.0);
+    CHECK(candidate["volume_error"].get<double>() == Approx(volumeError).margin(1e-9));
+    CHECK(candidate["center_of_buoyancy_error"].get<double>() == Approx(centerError).margin(1e-9));
+    CHECK(candidate["rel_error"].get<double>() == Approx(std::max(volumeError, centerError)).margin(1e-9));
+    ++checked;
+  }
+  CHECK(checked == 2);  // 32^2 and 64^2
+}
+
 TEST_CASE("advise prints a readable summary without --json", "[tool][advise]") {
   const ToolRun run = runTool("advise " + kBox + " --error 0.01 --max-resolution 64");
   REQUIRE(run.exitCode == 0);

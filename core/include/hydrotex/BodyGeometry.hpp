@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file BodyGeometry.hpp
-/// Everything baked once for a body, in the order of the data flow (DESIGN.md): mesh -> validate ->
+/// Everything baked once for a body, in the order of the data flow (docs/design.md): mesh -> validate ->
 /// physics atlas -> exact texel bake -> surface textures. The tool, the plugin and the demos all
 /// prepare bodies through this one function.
 

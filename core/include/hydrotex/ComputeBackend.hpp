@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file ComputeBackend.hpp
-/// One interface for the per-step texel passes (DESIGN.md "Backends"): a CPU implementation here in
+/// One interface for the per-step texel passes (docs/design.md "Backends"): a CPU implementation here in
 /// core and a GL compute implementation in hydrotex::gpu, with the same inputs and the same
 /// outputs, so that every backend runs the same test bodies. Bodies are registered once (their
 /// baked surface); each step asks for many bodies at once (batched) and gets every answer back

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file LiquidGraph.hpp
-/// The liquid graph of a permeable body (paper section 3.1; DESIGN.md "LiquidGraph"): nodes are
+/// The liquid graph of a permeable body (paper section 3.1; docs/design.md "LiquidGraph"): nodes are
 /// spaces that can hold liquid (hollow compartments, or the pores of a material), edges connect
 /// spaces that liquid can pass between. Each step, liquid enters or leaves through the submerged
 /// permeable texels by Darcy's law (paper eq. 9), driven by the outside pressure at the texel's

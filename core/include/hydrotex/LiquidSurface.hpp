@@ -4,7 +4,7 @@
 /// The liquid a body sits in, behind one injected interface (as btVehicleRaycaster is for
 /// vehicles): a flat plane, a sum of Gerstner waves, a height grid fed by an external simulation,
 /// or a uniform medium without a free surface (a gas: everything is submerged).
-/// World frame, SI units, y up, gravity along -y (DESIGN.md "Units and axes").
+/// World frame, SI units, y up, gravity along -y (docs/design.md "Units and axes").
 
 #include <Eigen/Core>
 #include <optional>

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file MassModel.hpp
-/// A body's mass model that may change while it moves (DESIGN.md "Mass model"; paper figure 13):
+/// A body's mass model that may change while it moves (docs/design.md "Mass model"; paper figure 13):
 /// solid density, shell areal density, a per-texel density map (replaceable at run time) and
 /// point masses (cargo, passengers) that may follow linear paths. Mass, centre of mass and the
 /// full inertia tensor come from one TextureMassIntegrator pass plus the point masses, and are
 /// recomputed only when something changed (revision counter). A deforming body that has told the
 /// model its bake and layout (followTriangles) gets the solid, shell and map from a
 /// TriangleMassIntegrator instead: O(triangles) per moved mesh, exact for uniform densities.
+/// When the geometry changes (setGeometry) each part keeps what its setter asked for: no matter
+/// appears because a mesh grows unless the user says it does (Conserved).
 
 #include <cstdint>
 #include <optional>
@@ -41,6 +43,16 @@ struct PointMass {
 /// path gives the origin.
 Eigen::Vector3d pathPosition(const std::vector<PathKeyframe>& path, double time);
 
+/// What a uniform part (solid or shell) keeps when the geometry changes (MassModel::setGeometry).
+enum class Conserved {
+  /// The density (kg/m^3 or kg/m^2): the part's mass follows the volume or area, i.e. matter is
+  /// added as the body grows (a body given by its density, a growing organism).
+  Density,
+  /// The mass (kg): the density follows the volume or area (a body given by its mass; a balloon's
+  /// envelope stretching thinner).
+  Mass,
+};
+
 /// Mass model of one body, over its current surface textures. Not thread-safe; cheap to query.
 class MassModel {
  public:
@@ -48,11 +60,15 @@ class MassModel {
   /// model starts as a uniform solid of 1000 kg/m^3 with no shell and no point masses.
   MassModel(const SurfaceTextures& textures, const Eigen::Vector3d& referencePoint);
 
-  /// Uniform solid density (kg/m^3) filling the enclosed volume, used where no density map is set
-  /// (0: hollow). Error for a negative or non-finite value.
-  Status setSolidDensity(double density);
-  /// Areal density of the surface (kg/m^2): hulls, buoys, balloon envelopes. Error when < 0 or NaN.
-  Status setShellDensity(double density);
+  /// Uniform solid density (kg/m^3) filling the current enclosed volume, used where no density map
+  /// is set (0: hollow). `conserved` says what a later change of geometry keeps: the density
+  /// (default), or the solid's mass density * volume() of now, the density then following the
+  /// volume. Error for a negative or non-finite value.
+  Status setSolidDensity(double density, Conserved conserved = Conserved::Density);
+  /// Areal density of the current surface (kg/m^2): hulls, buoys, balloon envelopes. `conserved`
+  /// says what a later change of geometry keeps: the shell's mass density * area() of now (default:
+  /// an envelope that stretches gets thinner), or the areal density. Error when < 0 or NaN.
+  Status setShellDensity(double density, Conserved conserved = Conserved::Mass);
   /// Replaces the density map: one density (kg/m^3) per covered texel (SurfaceTextures order),
   /// each filling the cone from the reference point to its texel. Empty: back to the uniform
   /// solid. Error when the size is not the texel count; a negative or non-finite density makes
@@ -72,8 +88,9 @@ class MassModel {
   /// new revision) when none moved.
   void advanceTo(double time);
   /// The surface moved (a deforming body): prepares the texel pass again for `textures`, which
-  /// must have as many texels as before when a density map is set. Error once the model follows
-  /// triangles (it then takes the moved Mesh, below).
+  /// must have as many texels as before when a density map is set. The solid and the shell keep
+  /// what their setters asked for (Conserved); a density map keeps its densities. Error once the
+  /// model follows triangles (it then takes the moved Mesh, below).
   Status setGeometry(const SurfaceTextures& textures);
   /// For a deforming body: from now on the solid, shell and density map are summed per triangle
   /// (TriangleMassIntegrator) over `mesh` (the mesh `bake` was made of, vertices possibly moved)
@@ -84,6 +101,7 @@ class MassModel {
   /// another texel count; or from setGeometry(mesh).
   Status followTriangles(const SurfaceBake& bake, const UvLayout& layout, const Mesh& mesh);
   /// The mesh moved (a deforming body that follows triangles): same topology as the bake's mesh.
+  /// The solid and the shell keep what their setters asked for (Conserved), as setGeometry(textures).
   /// O(triangles), allocation-free. Error when the model does not follow triangles, or from
   /// TriangleMassIntegrator::update (triangle count, an index out of range, a non-finite vertex);
   /// properties() is then an error until a valid mesh is given.
@@ -109,18 +127,26 @@ class MassModel {
   std::uint64_t combinations() const { return combinations_; }
   /// Point masses, in the order they were added.
   const std::vector<PointMass>& pointMasses() const { return pointMasses_; }
-  /// Uniform solid density (kg/m^3).
+  /// Uniform solid density (kg/m^3) of the current geometry.
   double solidDensity() const { return distributed_.solidDensity; }
-  /// Shell areal density (kg/m^2).
+  /// Shell areal density (kg/m^2) of the current geometry.
   double shellDensity() const { return distributed_.shellDensity; }
+  /// What the solid keeps when the geometry changes.
+  Conserved solidConserved() const { return solidConserved_; }
+  /// What the shell keeps when the geometry changes.
+  Conserved shellConserved() const { return shellConserved_; }
   /// Enclosed volume (m^3) of the current geometry.
   double volume() const { return triangles_ ? triangles_->volume() : integrator_.volume(); }
+  /// Surface area (m^2) of the current geometry.
+  double area() const { return triangles_ ? triangles_->area() : integrator_.area(); }
   /// Number of covered texels (the size a density map must have).
   std::size_t texelCount() const { return triangles_ ? triangles_->texelCount() : integrator_.size(); }
 
  private:
   /// The solid, shell and map part from the triangle path (a new map first costs a piece pass).
   Expected<MassProperties> evaluateTriangles();
+  /// The geometry changed: the densities of the parts that keep their mass follow it.
+  void conserveMasses();
 
   TextureMassIntegrator integrator_;
   std::optional<TriangleMassIntegrator> triangles_;  // set by followTriangles
@@ -128,6 +154,10 @@ class MassModel {
   Eigen::Vector3d referencePoint_;
   TextureMassModel distributed_;
   std::vector<PointMass> pointMasses_;
+  Conserved solidConserved_ = Conserved::Density;
+  Conserved shellConserved_ = Conserved::Mass;
+  double solidMass_ = 0.0;  // kg, kept when solidConserved_ is Mass
+  double shellMass_ = 0.0;  // kg, kept when shellConserved_ is Mass
   MassProperties distributedProperties_;
   MassProperties combined_;
   std::uint64_t revision_ = 1;

@@ -24,7 +24,7 @@ struct MassProperties {
 /// precision. Error when the mesh is open, empty, or has non-finite vertices, or density <= 0.
 Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density);
 
-/// What a body is made of, for the texture path (DESIGN.md "Mass model").
+/// What a body is made of, for the texture path (docs/design.md "Mass model").
 struct TextureMassModel {
   double solidDensity = 1000.0;    ///< kg/m^3 filling the enclosed volume (0: hollow)
   double shellDensity = 0.0;       ///< kg/m^2 over the surface (hulls, buoys)
@@ -68,6 +68,8 @@ class TextureMassIntegrator {
   std::size_t size() const { return count_; }
   /// Enclosed volume (m^3): the sum of the cone volumes (exact up to float rounding).
   double volume() const { return totalVolume_; }
+  /// Surface area (m^2): the sum of the texel areas.
+  double area() const { return shellArea_; }
 
  private:
   struct Moments;  // mass, first and second moments about the reference point, in double

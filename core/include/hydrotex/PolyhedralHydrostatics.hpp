@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file PolyhedralHydrostatics.hpp
-/// The exact reference path (DESIGN.md "Exact reference"): the closed triangle mesh is clipped
+/// The exact reference path (docs/design.md "Exact reference"): the closed triangle mesh is clipped
 /// against the flat liquid surface in double precision and every quantity is integrated exactly
 /// over the wetted part of the surface (divergence theorem with fields that vanish on the water
 /// plane). Any closed mesh, convex or not. O(triangles).

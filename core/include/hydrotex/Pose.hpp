@@ -16,7 +16,7 @@ struct Pose {
   /// Maps a body-frame point to the world.
   Eigen::Vector3d apply(const Eigen::Vector3d& bodyPoint) const { return rotation * bodyPoint + translation; }
 
-  /// Pose from three angles in degrees, extrinsic X then Y then Z (R = Rz*Ry*Rx, DESIGN.md), then
+  /// Pose from three angles in degrees, extrinsic X then Y then Z (R = Rz*Ry*Rx, docs/design.md), then
   /// the translation.
   static Pose fromDegreesXYZ(const Eigen::Vector3d& degrees, const Eigen::Vector3d& translation) {
     const double k = 3.14159265358979323846 / 180.0;

@@ -27,7 +27,7 @@ Mesh torus(double majorRadius, double minorRadius, int majorSegments, int minorS
 Mesh hemisphere(double radius, int slices, int stacks, bool up);
 /// Closed Wigley hull: half-breadth y(x,z) = (B/2)(1-(2x/L)^2)(1-(z/T)^2) with the keel at depth T
 /// below the deck plane (mapped to our axes: length along x, breadth along z, depth along -y),
-/// closed by a flat deck at y = 0. Its volume is 4/9 L B T (REFERENCES.md).
+/// closed by a flat deck at y = 0. Its volume is 4/9 L B T (docs/references.md).
 Mesh wigleyHull(double length, double breadth, double draft, int lengthSegments, int depthSegments);
 
 }  // namespace hydrotex::primitives

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file SurfaceBake.hpp
-/// The exact texel bake (DESIGN.md "Exact texels"): every texel square is clipped against every UV
+/// The exact texel bake (docs/design.md "Exact texels"): every texel square is clipped against every UV
 /// triangle that overlaps it, and the resulting pieces are kept, so that the position texture (PT)
 /// and vector-area texture (VAT) are exact and can be re-evaluated from moved vertices without
 /// rasterizing again (deforming meshes).
@@ -18,7 +18,7 @@ namespace hydrotex {
 struct BakeSettings {
   int width = 256;        ///< texels along u (16..4096)
   int height = 256;       ///< texels along v (16..4096)
-  int tileSize = 16;      ///< texels per tile side for the hierarchy (DESIGN.md "Hierarchy")
+  int tileSize = 16;      ///< texels per tile side for the hierarchy (docs/design.md "Hierarchy")
   /// One-line reason when a setting is out of range.
   Status validate() const;
 };

@@ -2,7 +2,7 @@
 #pragma once
 /// @file SurfaceEvaluator.hpp
 /// Per-step re-evaluation of PT, VAT, area and texel edges of a deforming mesh from a kept bake
-/// (DESIGN.md "Exact texels"; issue 5 "Deforming bodies"), without allocating and in single
+/// (docs/design.md "Exact texels"; issue 5 "Deforming bodies"), without allocating and in single
 /// precision. evaluateSurface (SurfaceBake.hpp) is the double-precision reference it matches to
 /// float rounding.
 

@@ -38,7 +38,7 @@ struct TexelAdjacency {
   /// Number of pairs across seams or chart borders.
   std::size_t seamPairCount() const;
   /// Largest explicit (forward Euler) time step (s) that keeps every texel's liquid non-negative
-  /// for diffusivity D (m^2/s): min_i A_i / (D sum_j g_ij) over texels with pairs (REFERENCES.md).
+  /// for diffusivity D (m^2/s): min_i A_i / (D sum_j g_ij) over texels with pairs (docs/references.md).
   /// +infinity when there are no pairs or D = 0.
   double stableTimeStep(double diffusivity) const;
 };

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TexelDrag.hpp
-/// Hydrodynamic drag on a body's surface, texel by texel (DESIGN.md "The data flow":
+/// Hydrodynamic drag on a body's surface, texel by texel (docs/design.md "The data flow":
 /// Hydrodynamics): each surface element feels a pressure drag along its normal and a skin
 /// friction along the surface, from its velocity relative to the liquid. Pure functions with
 /// fixed-size inputs and outputs (no Bullet, no allocation per call).
@@ -67,8 +67,9 @@ Eigen::Vector3d texelDragForceWithFriction(const Eigen::Vector3d& areaVector, do
 /// Merges the covered texels of each bake tile into patches of texels whose unit normals lie
 /// within `normalCosine` (e.g. 0.9) of the patch's first texel and whose centroids lie within
 /// `maxPatchRadius` (m) of it: the radius bounds how much of the lever arm (rotational damping,
-/// which goes as the second moment of the area) merging loses; a tenth of the body's size keeps
-/// that loss near 1 %. Texels with no area are skipped. `textures` must match `bake` (same covered
+/// which goes as the second moment of the area) merging loses, as (radius / lever arm)^2: a tenth
+/// of a cube's size loses about 1 % of the torque of a spinning cube, a fifth 4 %; a body spinning
+/// about its long axis has shorter lever arms and loses more (test_texel_drag.cpp). Texels with no area are skipped. `textures` must match `bake` (same covered
 /// count); a mismatch returns an empty list.
 std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const SurfaceTextures& textures,
                                                   double normalCosine = 0.9,

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file TextureHydrostatics.hpp
-/// The texture path (paper section 2.3; DESIGN.md "Pressure integration", "The waterline inside a
+/// The texture path (paper section 2.3; docs/design.md "Pressure integration", "The waterline inside a
 /// texel", "Hierarchy"): hydrostatics as sums over the texels of a baked surface.
 ///
 /// Built once per body from its bake and surface textures (refreshed in place by update() when

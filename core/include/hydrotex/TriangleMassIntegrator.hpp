@@ -2,7 +2,7 @@
 #pragma once
 /// @file TriangleMassIntegrator.hpp
 /// Mass properties of a deforming body in O(triangles) per step (issue 5 "Deforming bodies";
-/// DESIGN.md "Mass model"), with the same meaning as the texel path (TextureMassIntegrator): a
+/// docs/design.md "Mass model"), with the same meaning as the texel path (TextureMassIntegrator): a
 /// solid of uniform density or a per-texel density map (a texel's density fills the cones from the
 /// reference point to its pieces), plus a shell of uniform areal density. A texel piece is a fixed
 /// polygon of one triangle in barycentric coordinates, so every sum over texels collapses to a
@@ -59,6 +59,8 @@ class TriangleMassIntegrator {
 
   /// Enclosed volume (m^3) of the last updated mesh (exact polyhedral volume; 0 before any).
   double volume() const { return volume_; }
+  /// Surface area (m^2) of the last updated mesh (exact; 0 before any).
+  double area() const { return area_; }
   /// Number of covered texels (the size a density map must have).
   std::size_t texelCount() const { return texelCount_; }
   /// Number of triangles (the mesh's, the layout's).

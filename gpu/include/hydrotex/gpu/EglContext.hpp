@@ -2,7 +2,7 @@
 #pragma once
 /// @file EglContext.hpp
 /// A headless OpenGL 4.3+ core context through EGL, with no window and no surface
-/// (EGL_KHR_surfaceless_context). Context creation is apart from the GL backend (DESIGN.md
+/// (EGL_KHR_surfaceless_context). Context creation is apart from the GL backend (docs/design.md
 /// "Magnum / Filament"): the backend takes a context that exists.
 
 #include <memory>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #pragma once
 /// @file GlBackend.hpp
-/// The OpenGL 4.3 compute backend (DESIGN.md "Backends"): the CPU's exact bake uploaded once per
+/// The OpenGL 4.3 compute backend (docs/design.md "Backends"): the CPU's exact bake uploaded once per
 /// body, the per-step passes on the GPU. Hydrostatics under flat planes, Gerstner waves, height
 /// grids and uniform media (the texture path's sums, TextureHydrostatics.cpp) and texture mass
 /// properties, many bodies per dispatch, float per-texel work and per-workgroup float partials,

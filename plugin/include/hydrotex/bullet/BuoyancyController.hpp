@@ -126,7 +126,7 @@ class BuoyancyController : public btActionInterface {
   const SoftBodyReport* softBodyReport(const btSoftBody* body) const;
 
   /// Changes mass, centre of mass and inertia (mesh frame) of a registered body, keeping the shape
-  /// where it is in the world and keeping linear and angular momentum (DESIGN.md "Bullet's
+  /// where it is in the world and keeping linear and angular momentum (docs/design.md "Bullet's
   /// frame"). Errors: unknown body, non-positive or non-finite mass, non-finite centre, an
   /// inertia that is not symmetric positive definite.
   Status setMassProperties(btRigidBody* body, const MassProperties& massProperties);
@@ -153,7 +153,8 @@ class BuoyancyController : public btActionInterface {
 
   /// The liquid.
   const LiquidSettings& liquid() const { return liquid_; }
-  /// Replaces the liquid (e.g. a new surface); bodies keep their bakes.
+  /// Replaces the liquid (e.g. a new surface); bodies keep their bakes and are woken (a body at
+  /// rest in the old liquid need not be in the new one). Error, nothing changed, for a bad liquid.
   Status setLiquid(LiquidSettings liquid);
   /// Simulated time (s) passed to the liquid surface; advanced by each updateAction.
   double time() const { return time_; }

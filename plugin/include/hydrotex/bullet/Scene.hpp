@@ -43,8 +43,8 @@ struct SceneBody {
   std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
   std::string meshPath;                                      ///< ... loaded from this file
   MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`
-  std::optional<double> density;                             ///< kg/m^3 (uniform solid)
-  std::optional<double> mass;                                ///< kg (uniform solid)
+  std::optional<double> density;                             ///< kg/m^3 (uniform solid; kept when it deforms: the mass follows the volume)
+  std::optional<double> mass;                                ///< kg (uniform solid; kept when it deforms: the density follows the volume)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();        ///< m, mesh frame origin in the world
   Eigen::Vector3d rotationDegrees = Eigen::Vector3d::Zero(); ///< degrees, extrinsic X, Y, Z
   Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();  ///< m/s, of the centre of mass
@@ -52,14 +52,14 @@ struct SceneBody {
   int resolution = 256;                                      ///< texels per side
   HydrostaticsMethod method = HydrostaticsMethod::Texture;   ///< hydrostatics path
   EffectSet effects{Effect::Buoyancy, Effect::Drag};         ///< effects it pays for
-  double shellDensity = 0.0;                                 ///< kg/m^2 (`shell_density`)
+  double shellDensity = 0.0;                                 ///< kg/m^2 (`shell_density`) at rest; a deforming shell keeps its mass
   std::shared_ptr<const ImageMap> densityMap;                ///< `density_map` (PNG, loaded)
   std::array<double, 2> densityRange{0.0, 0.0};              ///< kg/m^3 for black and white (`density_range`)
   std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
   WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
   FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `liquid_graph`, `liquid_graph_nodes`
-  bool soft = false;                                         ///< `soft: true`: a btSoftBody (nodes: the mesh's vertices), buoyancy only
+  bool soft = false;                                         ///< `soft: true`: a btSoftBody (nodes: the mesh's vertices), buoyancy only; its nodes keep the mass (density: of the rest mesh)
   SoftMaterial softMaterial;                                 ///< `soft_material` (soft bodies only)
 };
 
