@@ -111,9 +111,10 @@ double enclosedVolume(const Mesh& mesh) {
   return sixTimes / 6.0;
 }
 
-/// The convex hull of `points` as an outward mesh; its vertices are input points (the nearest to
-/// each of btConvexHullComputer's, which passes through an integer grid).
-Expected<Mesh> hullMesh(const std::vector<Eigen::Vector3d>& points, const std::string& name) {
+/// The convex hull of `points` as an outward mesh. btConvexHullComputer passes the points through
+/// an integer grid; with `snap` each hull vertex is moved back onto the nearest input point
+/// (O(vertices x points): for a user's hull, whose points are exact, not for sampled spheres).
+Expected<Mesh> hullMesh(const std::vector<Eigen::Vector3d>& points, const std::string& name, bool snap) {
   if (points.size() < 4) return Error{name + ": fewer than 4 points span no volume"};
   std::vector<double> coordinates;
   coordinates.reserve(3 * points.size());
@@ -124,6 +125,10 @@ Expected<Mesh> hullMesh(const std::vector<Eigen::Vector3d>& points, const std::s
   mesh.sourceName = name;
   for (int i = 0; i < computer.vertices.size(); ++i) {
     const Eigen::Vector3d v = toEigen(computer.vertices[i]);
+    if (!snap) {
+      mesh.positions.push_back(v);
+      continue;
+    }
     std::size_t best = 0;
     for (std::size_t k = 1; k < points.size(); ++k) {
       if ((points[k] - v).squaredNorm() < (points[best] - v).squaredNorm()) best = k;
@@ -314,7 +319,10 @@ Expected<Mesh> multiSphereMesh(const btMultiSphereShape& shape, double error) {
   for (int i = 0; i < shape.getSphereCount(); ++i) largest = std::max(largest, double(shape.getSphereRadius(i)));
   if (shape.getSphereCount() == 0 || !(largest > 0.0)) return Error{"btMultiSphereShape: has no sphere"};
   const double s = scaling.x();
-  for (int m = capStacks(1.0, 0.0, error); m <= 512; m += std::max(1, m / 4)) {
+  // The gap between the hulls is about 3 (1 - inner) = 3 pi^2 / (16 m^2): start where that meets
+  // the bound, and refine while the measured gap does not.
+  const int first = std::max(capStacks(1.0, 0.0, error), int(std::ceil(kPi / (4.0 * std::sqrt(error / 3.0)))));
+  for (int m = first; m <= 512; m += std::max(1, m / 4)) {
     const Mesh unit = primitives::uvSphere(1.0, 4 * m, 2 * m);
     double inner = 1.0;  // the unit mesh holds the ball of this radius: its nearest face plane
     for (const Eigen::Vector3i& t : unit.triangles) {
@@ -331,9 +339,9 @@ Expected<Mesh> multiSphereMesh(const btMultiSphereShape& shape, double error) {
         out.push_back(centre + radius / inner * u);
       }
     }
-    Expected<Mesh> lower = hullMesh(in, "btMultiSphereShape");
+    Expected<Mesh> lower = hullMesh(in, "btMultiSphereShape", false);
     if (!lower) return lower;
-    Expected<Mesh> upper = hullMesh(out, "btMultiSphereShape");
+    Expected<Mesh> upper = hullMesh(out, "btMultiSphereShape", false);
     if (!upper) return upper;
     const double volumeIn = enclosedVolume(*lower), volumeOut = enclosedVolume(*upper);
     if (volumeOut - volumeIn <= error * volumeIn) return lower;
@@ -402,7 +410,7 @@ Expected<Mesh> shapeMesh(const btCollisionShape& shape, const ShapeTessellation&
       const auto& hull = static_cast<const btConvexHullShape&>(shape);
       std::vector<Eigen::Vector3d> points;
       for (int i = 0; i < hull.getNumPoints(); ++i) points.push_back(toEigen(hull.getScaledPoint(i)));
-      return hullMesh(points, name);
+      return hullMesh(points, name, true);
     }
     case MULTI_SPHERE_SHAPE_PROXYTYPE:
       return multiSphereMesh(static_cast<const btMultiSphereShape&>(shape), error);
