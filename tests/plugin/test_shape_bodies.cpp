@@ -316,6 +316,19 @@ TEST_CASE("unsupported shapes are refused with one line naming the shape type", 
   const Status added = world.controller().addBody(&body, solid(500.0, {Effect::Buoyancy}));
   REQUIRE_FALSE(added);
   CHECK(added.error().message.find("btStaticPlaneShape") != std::string::npos);
+  // And through addAllBodies: the first error names the object; the bodies before it stay.
+  btBoxShape cubeShape(btVector3(0.5f, 0.5f, 0.5f));
+  btRigidBody cube(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &cubeShape));
+  world.world().addRigidBody(&cube);
+  world.world().addRigidBody(&body);
+  Expected<std::size_t> all = world.controller().addAllBodies(solid(500.0, {Effect::Buoyancy}));
+  REQUIRE_FALSE(all);
+  INFO(all.error().message);
+  CHECK(all.error().message.find("collision object 1 (after 1 bodies added): shape: collision shape btStaticPlaneShape") == 0);
+  CHECK(world.controller().bodyCount() == 1);
+  world.controller().removeBody(&cube);
+  world.world().removeRigidBody(&cube);
+  world.world().removeRigidBody(&body);
 }
 
 TEST_CASE("addAllBodies floats a world's boxes and capsules as their own shapes at the closed-form draft",
