@@ -217,6 +217,36 @@ Mesh uvSphere(double radius, int slices, int stacks) {
   return builder.finish();
 }
 
+Mesh capsule(double radius, double cylinderLength, int slices, int stacksPerCap) {
+  slices = std::max(3, slices);
+  const int m = std::max(1, stacksPerCap);
+  // Rows: the lower cap from its pole to its equator (m + 1 rows), the cylinder's inner rows, the
+  // upper cap from above its equator to its pole; one chart whose rows are about equally tall.
+  const double capRow = 0.5 * kPi * radius / m;
+  const int c = cylinderLength > 0.0 ? std::max(1, int(std::lround(cylinderLength / capRow))) : 0;
+  const int stacks = 2 * m + c;
+  const double half = 0.5 * cylinderLength;
+  MeshBuilder builder("capsule");
+  auto row = [&](int j, bool height) {
+    double latitude = 0.0, y = 0.0;
+    if (j <= m) {
+      latitude = -0.5 * kPi + 0.5 * kPi * j / m;
+      y = -half;
+    } else if (j < m + c) {
+      y = -half + cylinderLength * (j - m) / c;
+    } else {
+      latitude = 0.5 * kPi * (j - m - c) / m;
+      y = half;
+    }
+    if (j == 0 || j == stacks) return height ? y + (j == 0 ? -radius : radius) : 0.0;
+    return height ? y + radius * std::sin(latitude) : radius * std::cos(latitude);
+  };
+  addRevolution(
+      builder, slices, stacks, [&](int j) { return row(j, false); }, [&](int j) { return row(j, true); }, 0.0, 0.0,
+      2.0 * kPi * radius, kPi * radius + cylinderLength);
+  return builder.finish();
+}
+
 Mesh hemisphere(double radius, int slices, int stacks, bool up) {
   slices = std::max(3, slices);
   stacks = std::max(1, stacks);

@@ -165,6 +165,11 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   floating->settings = settings;
   if (settings.mesh) {
     floating->mesh = settings.mesh;
+  } else if (settings.meshPath.empty()) {
+    // No mesh given: the body's own collision shape, in its frame (ShapeMesh.hpp).
+    Expected<Mesh> fromShape = meshFromCollisionShape(*body->getCollisionShape(), settings.shape);
+    if (!fromShape) return Error{"shape: " + fromShape.error().message};
+    floating->mesh = std::make_shared<const Mesh>(std::move(fromShape).value());
   } else {
     RepairReport repairs;
     Expected<Mesh> loaded = loadMesh(settings.meshPath, settings.load, &repairs);
@@ -357,6 +362,21 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (registered.texture) bytes += registered.texture->texelCount() * sizeof(TextureHydrostatics::Texel);
   registered.report.effectMemoryBytes = bytes;
   return Ok{};
+}
+
+Expected<std::size_t> BuoyancyController::addAllBodies(const FloatingBodySettings& defaults) {
+  std::size_t added = 0;
+  const btCollisionObjectArray& objects = world_.getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) {
+    btRigidBody* body = btRigidBody::upcast(objects[i]);
+    if (body == nullptr || body->isStaticOrKinematicObject() || find(body) != nullptr) continue;
+    if (Status s = addBody(body, defaults); !s) {
+      return Error{"collision object " + std::to_string(i) + " (after " + std::to_string(added) +
+                   " bodies added): " + s.error().message};
+    }
+    ++added;
+  }
+  return added;
 }
 
 bool BuoyancyController::removeBody(btRigidBody* body) {

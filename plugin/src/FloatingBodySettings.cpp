@@ -74,7 +74,9 @@ Status FloodingBodySettings::validate() const {
 }
 
 Status FloatingBodySettings::validate() const {
-  if (!mesh && meshPath.empty()) return Error{"mesh: neither a mesh nor a mesh file is given"};
+  if (!mesh && meshPath.empty()) {
+    if (Status s = shape.validate(); !s) return Error{"shape: " + s.error().message};
+  }
   if (mesh && mesh->triangles.empty()) return Error{"mesh: the mesh has no triangles"};
   if (resolution < 16 || resolution > 4096) {
     return Error{"resolution: " + std::to_string(resolution) + " is outside 16..4096"};

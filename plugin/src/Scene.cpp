@@ -14,6 +14,7 @@
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 
 #include "BulletEigen.hpp"
+#include "SceneShape.hpp"
 #include "SceneSoftBody.hpp"
 #include "hydrotex/ImageMap.hpp"
 #include "hydrotex/MeshIO.hpp"
@@ -334,11 +335,17 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
   HYDROTEX_TRY(reader.string("name", body.name));
   std::string mesh;
   HYDROTEX_TRY(reader.string("mesh", mesh));
-  if (mesh.empty()) return reader.error("mesh", "missing (a mesh file)");
-  const std::filesystem::path meshPath = std::filesystem::path(baseDirectory) / mesh;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(meshPath, ec)) return reader.error("mesh", meshPath.string() + ": no such file");
-  body.meshPath = meshPath.string();
+  if (const Json* shape = reader.find("shape")) {
+    // A Bullet primitive instead of a mesh file (SceneShape.cpp).
+    if (!mesh.empty()) return reader.error("shape", "given with mesh: give one of them");
+    HYDROTEX_TRY(detail::parseSceneShape(*shape, path, source, body));
+  } else {
+    if (mesh.empty()) return reader.error("mesh", "missing (a mesh file, or a shape)");
+    const std::filesystem::path meshPath = std::filesystem::path(baseDirectory) / mesh;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(meshPath, ec)) return reader.error("mesh", meshPath.string() + ": no such file");
+    body.meshPath = meshPath.string();
+  }
   std::string up = "y";
   HYDROTEX_TRY(reader.string("up", up));
   Expected<UpAxis> upAxis = upAxisFromName(up);
@@ -638,7 +645,11 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     const SceneBody& sceneBody = scene.bodies[i];
     const std::string prefix = scene.sourceName + ": bodies[" + std::to_string(i) + "]: ";
     std::shared_ptr<const Mesh> mesh = sceneBody.mesh;
-    if (!mesh) {
+    std::unique_ptr<btCollisionShape> collision;
+    if (sceneBody.shape && !mesh) {
+      // A Bullet primitive: no mesh here, the controller meshes the body's shape.
+      collision = detail::createSceneShape(*sceneBody.shape);
+    } else if (!mesh) {
       // The same file read with other axes, scale or repairs is another mesh.
       const MeshLoadSettings& load = sceneBody.load;
       const std::string key = sceneBody.meshPath + (load.up == UpAxis::Z ? "|z|" : "|y|") + std::to_string(load.scale) +
@@ -651,26 +662,29 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
       }
       mesh = cached->second;
     }
-    if (mesh->positions.empty()) return Error{prefix + "mesh: no vertices"};
-    // Collision: the convex hull of the mesh, in the mesh frame (the controller offsets it).
-    auto hull = std::make_unique<btConvexHullShape>();
-    for (const Eigen::Vector3d& p : mesh->positions) hull->addPoint(toBullet(p), false);
-    // Bullet inflates a convex hull by its collision margin (0.04 m by default) beyond its points:
-    // a 30 cm clay pot would stand 4 cm proud of the floor, jump there at its first contact and
-    // never reach water 3 cm deep. A margin of kHullMarginFraction of the smallest extent keeps
-    // contacts robust for large bodies (ships keep Bullet's default) without lifting small ones.
-    Eigen::Vector3d lower = mesh->positions.front(), upper = lower;
-    for (const Eigen::Vector3d& p : mesh->positions) {
-      lower = lower.cwiseMin(p);
-      upper = upper.cwiseMax(p);
+    if (!collision) {
+      if (mesh->positions.empty()) return Error{prefix + "mesh: no vertices"};
+      // Collision: the convex hull of the mesh, in the mesh frame (the controller offsets it).
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (const Eigen::Vector3d& p : mesh->positions) hull->addPoint(toBullet(p), false);
+      // Bullet inflates a convex hull by its collision margin (0.04 m by default) beyond its points:
+      // a 30 cm clay pot would stand 4 cm proud of the floor, jump there at its first contact and
+      // never reach water 3 cm deep. A margin of kHullMarginFraction of the smallest extent keeps
+      // contacts robust for large bodies (ships keep Bullet's default) without lifting small ones.
+      Eigen::Vector3d lower = mesh->positions.front(), upper = lower;
+      for (const Eigen::Vector3d& p : mesh->positions) {
+        lower = lower.cwiseMin(p);
+        upper = upper.cwiseMax(p);
+      }
+      const Eigen::Vector3d extent = upper - lower;
+      hull->setMargin(btScalar(std::min(double(hull->getMargin()), std::max(kHullMarginFloor, kHullMarginFraction * extent.minCoeff()))));
+      hull->recalcLocalAabb();
+      collision = std::move(hull);
     }
-    const Eigen::Vector3d extent = upper - lower;
-    hull->setMargin(btScalar(std::min(double(hull->getMargin()), std::max(kHullMarginFloor, kHullMarginFraction * extent.minCoeff()))));
-    hull->recalcLocalAabb();
     const Pose pose = Pose::fromDegreesXYZ(sceneBody.rotationDegrees, sceneBody.position);
     btTransform start(toBulletBasis(pose.rotation), toBullet(pose.translation));
     auto motionState = std::make_unique<btDefaultMotionState>(start);
-    btRigidBody::btRigidBodyConstructionInfo info(1, motionState.get(), hull.get(), btVector3(1, 1, 1));
+    btRigidBody::btRigidBodyConstructionInfo info(1, motionState.get(), collision.get(), btVector3(1, 1, 1));
     auto body = std::make_unique<btRigidBody>(info);
     FloatingBodySettings settings;
     settings.mesh = mesh;
@@ -691,7 +705,7 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
     body->setAngularVelocity(toBullet(sceneBody.angularVelocity));
     self->world_->addRigidBody(body.get());
     self->bodyPointers_.push_back(body.get());
-    self->shapes_.push_back(std::move(hull));
+    self->shapes_.push_back(std::move(collision));
     self->motionStates_.push_back(std::move(motionState));
     self->rigidBodies_.push_back(std::move(body));
   }

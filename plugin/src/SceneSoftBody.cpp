@@ -71,6 +71,7 @@ Status parseSoftBody(const nlohmann::json* soft, const nlohmann::json* material,
 
 Status checkSoftBody(const SceneBody& body, const std::string& path, const std::string& source) {
   const std::string where = source + ": " + path + ": soft: ";
+  if (body.shape) return Error{where + "a soft body needs a mesh (its vertices become the nodes), not a shape"};
   if (body.shellDensity > 0.0 || body.densityMap) return Error{where + "a soft body takes density or mass, no shell_density or density_map"};
   if (!body.pointMasses.empty()) return Error{where + "a soft body takes no point_masses"};
   if (!body.scaleKeyframes.empty()) return Error{where + "a soft body deforms by itself: no deform"};

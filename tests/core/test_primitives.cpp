@@ -35,6 +35,8 @@ std::vector<NamedMesh> allPrimitives() {
           {"icosphere", prim::icosphere(1.0, 3)},
           {"cylinder", prim::cylinder(0.5, 2.0, 20)},
           {"cone", prim::cone(1.0, 2.0, 24)},
+          {"capsule", prim::capsule(0.5, 1.2, 24, 6)},
+          {"capsule without cylinder", prim::capsule(0.5, 0.0, 24, 6)},
           {"torus", prim::torus(1.0, 0.3, 32, 12)},
           {"hemisphere up", prim::hemisphere(1.0, 24, 8, true)},
           {"hemisphere down", prim::hemisphere(1.0, 24, 8, false)},

@@ -92,8 +92,10 @@ TEST_CASE("settings say what is wrong", "[controller][settings]") {
   s.rotationalDamping = std::nan("");
   CHECK_THAT(message(s), Catch::Contains("rotationalDamping"));
   s = settings;
-  s.mesh.reset();
-  CHECK_THAT(message(s), Catch::Contains("mesh"));
+  s.mesh.reset();  // no mesh: the body's collision shape is meshed (ShapeMesh.hpp) as s.shape says
+  CHECK(s.validate().ok());
+  s.shape.maxRelativeVolumeError = 0.5;
+  CHECK_THAT(message(s), Catch::Contains("shape: maxRelativeVolumeError"));
 
   TestWorld world;
   CHECK_FALSE(world.controller().addBody(nullptr, settings).ok());

@@ -19,6 +19,10 @@ Mesh uvSphere(double radius, int slices, int stacks);
 Mesh icosphere(double radius, int subdivisions);
 /// Closed cylinder along the z axis (horizontal when y is up), centred at the origin.
 Mesh cylinder(double radius, double length, int segments);
+/// Capsule along y centred at the origin: a cylinder of `cylinderLength` (m, >= 0; Bullet's
+/// capsule "height") capped by hemispheres of `radius`; `slices` around y, `stacksPerCap` rings
+/// per hemisphere (the cylinder gets rows of about the same height, so texel density is uniform).
+Mesh capsule(double radius, double cylinderLength, int slices, int stacksPerCap);
 /// Closed cone with its base at y = 0 and apex at y = height.
 Mesh cone(double radius, double height, int segments);
 /// Torus around the y axis: `majorRadius` to the tube centre, `minorRadius` of the tube.

@@ -107,7 +107,16 @@ class BuoyancyController : public btActionInterface {
   /// Errors: null or static body, body already registered, invalid settings, an unreadable or
   /// open mesh, a bake that fails, a deformation function with a collision shape that cannot
   /// follow it (FloatingBodySettings::deformedCollision).
+  /// With neither settings.mesh nor settings.meshPath, the mesh is the body's own collision shape
+  /// (meshFromCollisionShape, ShapeMesh.hpp; an unsupported shape is refused with its type named).
   Status addBody(btRigidBody* body, const FloatingBodySettings& settings);
+
+  /// Registers every dynamic rigid body already in the world, in the world's order, with
+  /// `defaults` (usually with no mesh, so each floats as its own collision shape); static and
+  /// kinematic bodies, soft bodies and bodies already registered are skipped. Returns how many
+  /// were added, or the first error (naming the object's index in the world): the bodies added
+  /// before it stay registered.
+  Expected<std::size_t> addAllBodies(const FloatingBodySettings& defaults);
 
   /// Unregisters `body` and gives it back its own collision shape (in the mesh frame, origin at
   /// the mesh origin); mass and inertia stay as the controller set them. False when unknown.

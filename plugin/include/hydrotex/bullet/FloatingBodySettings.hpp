@@ -23,6 +23,7 @@
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/TexelDrag.hpp"
 #include "hydrotex/Wetting.hpp"
+#include "hydrotex/bullet/ShapeMesh.hpp"
 
 namespace hydrotex::bullet {
 
@@ -138,10 +139,14 @@ enum class HydrostaticsMethod {
 
 /// Everything the controller needs to float one rigid body.
 struct FloatingBodySettings {
-  /// The body's closed mesh in its own frame (m). Either this or `meshPath`.
+  /// The body's closed mesh in its own frame (m). This, `meshPath`, or neither: then the mesh is
+  /// made from the body's own collision shape (meshFromCollisionShape, tessellated as `shape` says).
   std::shared_ptr<const Mesh> mesh;
   /// A mesh file any assimp format (used when `mesh` is empty).
   std::string meshPath;
+  /// With neither mesh nor meshPath: how the body's collision shape becomes its mesh (volume
+  /// error bound of round shapes, overlapping compound children).
+  ShapeTessellation shape;
   /// How `meshPath` is read: up axis, scale and repairs (on by default; a defect left unrepaired
   /// is refused by addBody with one line). Not applied to `mesh`, which is used as given.
   MeshLoadSettings load;

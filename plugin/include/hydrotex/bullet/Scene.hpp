@@ -37,11 +37,27 @@ struct SoftMaterial {
   int bendingDistance = 2;           ///< `bending_distance`, 0..4: bending links between nodes up to this many links apart (below 2: none)
 };
 
+/// A body given as a Bullet primitive instead of a mesh file (scene key `shape`, e.g.
+/// {"type": "capsule", "radius": 0.3, "height": 1.2, "axis": "y"}): its collision shape is this
+/// primitive and its mesh is made from it (meshFromCollisionShape, default tessellation).
+struct SceneShape {
+  /// Which Bullet shape (`type`).
+  enum class Type { Box, Sphere, Capsule, Cylinder, Cone };
+  Type type = Type::Box;                                     ///< `type`: "box", "sphere", "capsule", "cylinder", "cone"
+  Eigen::Vector3d halfExtents = Eigen::Vector3d::Zero();     ///< `half_extents` (m, > 0), box only: btBoxShape's half extents
+  double radius = 0.0;                                       ///< `radius` (m, > 0): sphere, capsule, cylinder, cone
+  /// `height` (m): capsule: its cylindrical part, >= 0 (Bullet's convention; the capsule is
+  /// height + 2 radius long); cylinder and cone: the whole height, > 0.
+  double height = 0.0;
+  int axis = 1;                                              ///< `axis` "x", "y" (default) or "z": capsule, cylinder, cone
+};
+
 /// One body of a scene.
 struct SceneBody {
   std::string name;                                          ///< CSV `body` column
   std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
-  std::string meshPath;                                      ///< ... loaded from this file
+  std::string meshPath;                                      ///< ... loaded from this file (`mesh`), or ...
+  std::optional<SceneShape> shape;                           ///< ... a Bullet primitive (`shape`)
   MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`
   std::optional<double> density;                             ///< kg/m^3 (uniform solid; kept when it deforms: the mass follows the volume)
   std::optional<double> mass;                                ///< kg (uniform solid; kept when it deforms: the density follows the volume)
@@ -106,7 +122,7 @@ std::shared_ptr<const LiquidSurface> makeSceneSurface(const Scene& scene);
 
 /// A headless Bullet world running a scene: world, seabed, bodies (convex hulls of their meshes,
 /// with a collision margin of 2 % of the smallest extent, 1 mm..4 cm, since Bullet inflates a hull
-/// by its margin) and the controller.
+/// by its margin; bodies given by `shape`: that Bullet primitive) and the controller.
 class SceneWorld {
  public:
   /// Builds the world; errors from the scene, mesh files and body registration.
