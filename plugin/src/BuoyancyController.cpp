@@ -476,6 +476,8 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   threads_->forEach(bodies_.size(), [&](std::size_t i) { computeBody(*bodies_[i], dt); });
   // Write (serial, registration order): velocities and sleeping state to Bullet, counters added.
   for (const auto& floating : bodies_) writeBody(*floating);
+  // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
+  // positions and activation in the same pass; it would have to be split into phases as above.
   const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
   for (SoftBodyBuoyancy& soft : softBodies_) {
     if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
