@@ -89,6 +89,10 @@ int main(int argc, char** argv) {
   app.add_flag("--window-check", windowCheck, "--window, and exit 1 unless the window shows each frame as written (a test of the window)");
   app.add_flag("--list", list, "list the bundled demos and whether each can run in this build");
   CLI11_PARSE(app, argc, argv);
+  if (threads && *threads < 0) {
+    std::fprintf(stderr, "hydrotex_demo: --threads %d: expected a whole number >= 0 (0: all cores)\n", *threads);
+    return 2;
+  }
   window = window || windowCheck;
 #ifndef HYDROTEX_DEMO_WITH_WINDOW
   if (window) {
@@ -123,10 +127,6 @@ int main(int argc, char** argv) {
   hydrotex::render::DemoOptions options;
   options.outputDirectory = outDir.empty() ? "demo-output/" + demo->name : outDir;
   options.frames = frames;
-  if (threads && *threads < 0) {
-    std::fprintf(stderr, "hydrotex_demo: --threads %d: expected a whole number >= 0 (0: all cores)\n", *threads);
-    return 2;
-  }
   options.threads = threads;
   options.smoke = smoke;
   options.video = !noVideo;
