@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libassimp-dev libbullet-dev libstb-dev catch2 nlohmann-json3-dev libcli11-dev
+  libeigen3-dev libassimp-dev libbullet-dev libstb-dev catch2 nlohmann-json3-dev libcli11-dev libtbb-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libepoxy-dev
   libglfw3-dev xvfb xauth
   ffmpeg gnuplot-nox

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: Zlib
-// bench_controller: 100 floating boxes at 256^2 with buoyancy and drag in a Bullet world stepped
-// at 60 Hz; the split between Bullet's own work and the BuoyancyController. Prints a table and
-// writes CSV (argv[1], default bench_controller.csv). Medians of several runs.
+// bench_controller: 100 floating boxes at 256^2 with buoyancy and drag in flat water, in a Bullet
+// world stepped at 60 Hz; the split between Bullet's own work and the BuoyancyController, on 1
+// thread and on 2 (ControllerSettings::threads), and the whole step's speed-up. Prints a table
+// and writes CSV (argv[1], default bench_controller.csv). Medians of several runs.
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "hydrotex/Primitives.hpp"
@@ -39,10 +41,11 @@ struct Run {
   double totalMs, controllerMs;
 };
 
-Run runOnce(EffectSet effects, int resolution, int bodies, int steps) {
+Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int threads) {
   Scene scene;
   scene.sourceName = "bench";
   scene.dt = 1.0 / 60.0;
+  scene.threads = threads;
   auto box = std::make_shared<const Mesh>(primitives::box({1.0, 0.6, 0.8}));
   for (int i = 0; i < bodies; ++i) {
     SceneBody body;
@@ -96,21 +99,44 @@ int main(int argc, char** argv) {
   };
   const int bodies = 100, resolution = 256, steps = 120, runs = 5;
   std::ofstream csv(csvPath);
-  csv << "effects,bodies,resolution,runs,total_ms_per_step,bullet_ms_per_step,controller_ms_per_step\n";
-  std::printf("%-26s %7s %5s %12s %12s %15s\n", "effects", "bodies", "res", "total ms", "bullet ms", "controller ms");
+  csv << "effects,bodies,resolution,threads,runs,total_ms_per_step,bullet_ms_per_step,controller_ms_per_step\n";
+  std::printf("%-26s %7s %5s %7s %12s %12s %15s\n", "effects", "bodies", "res", "threads", "total ms", "bullet ms",
+              "controller ms");
+  double speedUp = 0.0, controllerSpeedUp = 0.0;
+  const int threadCounts[2] = {1, 2};
   for (const Case& c : cases) {
-    std::vector<double> total, controller, bullet;
+    // The runs alternate between the counts, so that a neighbour's load on a shared machine falls
+    // on both alike.
+    std::vector<double> totals[2], controllers[2], bullets[2];
     for (int r = 0; r < runs; ++r) {
-      const Run run = runOnce(c.effects, resolution, bodies, steps);
-      total.push_back(run.totalMs);
-      controller.push_back(run.controllerMs);
-      bullet.push_back(run.totalMs - run.controllerMs);
+      for (int k = 0; k < 2; ++k) {
+        const Run run = runOnce(c.effects, resolution, bodies, steps, threadCounts[k]);
+        totals[k].push_back(run.totalMs);
+        controllers[k].push_back(run.controllerMs);
+        bullets[k].push_back(run.totalMs - run.controllerMs);
+      }
     }
-    std::printf("%-26s %7d %5d %12.3f %12.3f %15.3f\n", c.name, bodies, resolution, median(total), median(bullet),
-                median(controller));
-    csv << c.name << ',' << bodies << ',' << resolution << ',' << runs << ',' << median(total) << ','
-        << median(bullet) << ',' << median(controller) << '\n';
+    double serialTotal = 0.0, serialController = 0.0;
+    for (int k = 0; k < 2; ++k) {
+      const int threads = threadCounts[k];
+      const std::vector<double>& total = totals[k];
+      const std::vector<double>& controller = controllers[k];
+      const std::vector<double>& bullet = bullets[k];
+      std::printf("%-26s %7d %5d %7d %12.3f %12.3f %15.3f\n", c.name, bodies, resolution, threads, median(total),
+                  median(bullet), median(controller));
+      csv << c.name << ',' << bodies << ',' << resolution << ',' << threads << ',' << runs << ',' << median(total) << ','
+          << median(bullet) << ',' << median(controller) << '\n';
+      if (threads == 1) {
+        serialTotal = median(total);
+        serialController = median(controller);
+      } else if (std::string(c.name) == "buoyancy+drag") {
+        speedUp = serialTotal / median(total);
+        controllerSpeedUp = serialController / median(controller);
+      }
+    }
   }
+  std::printf("buoyancy+drag, 2 threads against 1: whole step %.2fx, controller %.2fx (goal 1.8x)\n", speedUp,
+              controllerSpeedUp);
   std::printf("target: buoyancy+drag under 8 ms per step (60 Hz, 100 bodies, 256^2)\n");
   return 0;
 }

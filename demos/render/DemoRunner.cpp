@@ -145,6 +145,7 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     std::fprintf(stderr, "hydrotex_demo: %s\n", scene.error().message.c_str());
     return 1;
   }
+  if (options.threads) scene->threads = *options.threads;
   const auto wallStart = std::chrono::steady_clock::now();
   Expected<std::unique_ptr<bullet::SceneWorld>> world = bullet::SceneWorld::create(*scene);
   if (!world) {

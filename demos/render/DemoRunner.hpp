@@ -25,6 +25,7 @@ struct DemoOptions {
   bool video = true;                ///< make the MP4 (needs ffmpeg)
   std::optional<int> width;         ///< pixels, overrides the demo's size
   std::optional<int> height;        ///< pixels
+  std::optional<int> threads;       ///< overrides the scene's `threads` (ControllerSettings::threads, 0: all cores)
   /// Called with each frame once it is written (row 0 at the top) and the simulated time (s), with
   /// no GL context current; returns false to stop the run early (e.g. its window was closed): the
   /// frames so far are kept and the video, contact sheet and figures are made from them. Empty: none.

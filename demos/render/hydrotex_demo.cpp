@@ -73,12 +73,13 @@ bool showInWindow(hydrotex::render::PreviewWindow& preview, const std::string& d
 int main(int argc, char** argv) {
   CLI::App app{"hydrotex_demo: the paper's scenes, simulated and rendered headless (EGL)"};
   std::string demoName, outDir, size;
-  std::optional<int> frames;
+  std::optional<int> frames, threads;
   bool smoke = false, noVideo = false, list = false, window = false, windowCheck = false;
   app.add_option("demo", demoName, "demo name (e.g. ship; see --list) or a demo JSON file");
   app.add_option("--out", outDir, "output directory (default: demo-output/NAME)");
   app.add_option("--frames", frames, "frames to render (default: the scene's duration at the demo's fps)");
   app.add_option("--size", size, "picture size WxH (default: the demo's, 640x360)");
+  app.add_option("--threads", threads, "threads for the bodies' loads (0: all cores; default: the scene's)");
   app.add_flag("--no-video", noVideo, "skip the MP4");
   app.add_flag("--smoke", smoke, "CI check: 4 small frames, no video, fail on a blank picture");
 #ifdef HYDROTEX_DEMO_WITH_WINDOW
@@ -89,6 +90,10 @@ int main(int argc, char** argv) {
   app.add_flag("--window-check", windowCheck, "--window, and exit 1 unless the window shows each frame as written (a test of the window)");
   app.add_flag("--list", list, "list the bundled demos and whether each can run in this build");
   CLI11_PARSE(app, argc, argv);
+  if (threads && *threads < 0) {
+    std::fprintf(stderr, "hydrotex_demo: --threads %d: expected a whole number >= 0 (0: all cores)\n", *threads);
+    return 2;
+  }
   window = window || windowCheck;
 #ifndef HYDROTEX_DEMO_WITH_WINDOW
   if (window) {
@@ -123,6 +128,7 @@ int main(int argc, char** argv) {
   hydrotex::render::DemoOptions options;
   options.outputDirectory = outDir.empty() ? "demo-output/" + demo->name : outDir;
   options.frames = frames;
+  options.threads = threads;
   options.smoke = smoke;
   options.video = !noVideo;
   if (!size.empty()) {

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: Zlib
-// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--json]`: runs a scene headless in
-// Bullet with the BuoyancyController and writes one CSV row per body every N steps.
+// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--threads N] [--backend cpu|auto] [--json]`:
+// runs a scene headless in Bullet with the BuoyancyController and writes one CSV row per body
+// every N steps.
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 
@@ -23,8 +26,20 @@ struct SimulateOptions {
   std::string scenePath;
   std::string csvPath;
   long long every = 1;
+  std::string threads;  ///< overrides the scene's `threads` when given (parsed here, to name a bad value)
+  std::string backend;  ///< overrides the scene's `backend` when given
   bool json = false;
 };
+
+/// The --threads value: a whole number >= 0, or one line naming it.
+Expected<int> parseThreads(const std::string& text) {
+  int value = -1;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || value < 0) {
+    return Error{"--threads " + text + ": expected a whole number >= 0 (0: all cores)"};
+  }
+  return value;
+}
 
 /// One CSV row per body: the columns of the issue, in that order. Soft bodies follow the rigid
 /// ones (Scene::softBodies order) with the same columns: position and velocities of their nodes
@@ -70,8 +85,20 @@ bool finite(const btVector3& p) {
 
 int runSimulate(const SimulateOptions& options) {
   if (options.every < 1) return reportError(Error{"--every: must be at least 1"});
+  if (!options.backend.empty()) {
+    if (Status s = bullet::checkControllerBackend(options.backend); !s) {
+      return reportError(Error{"--backend " + s.error().message});
+    }
+  }
+  std::optional<int> threads;
+  if (!options.threads.empty()) {
+    Expected<int> parsed = parseThreads(options.threads);
+    if (!parsed) return reportError(parsed.error());
+    threads = *parsed;
+  }
   Expected<bullet::Scene> scene = bullet::loadScene(options.scenePath);
   if (!scene) return reportError(scene.error());
+  if (threads) scene->threads = *threads;
   Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene);
   if (!created) return reportError(created.error());
   bullet::SceneWorld& sceneWorld = **created;
@@ -120,10 +147,14 @@ int runSimulate(const SimulateOptions& options) {
   result["time"] = sceneWorld.time();
   result["wall_seconds"] = seconds;
   result["ms_per_step"] = steps > 0 ? 1000.0 * seconds / double(steps) : 0.0;
+  result["threads"] = sceneWorld.controller().threads();
+  result["backend"] = "cpu";
   nlohmann::json bodies = nlohmann::json::array();
   std::ostringstream text;
   text << "simulated " << sceneWorld.time() << " s in " << steps << " steps (" << std::setprecision(3)
-       << (steps > 0 ? 1000.0 * seconds / double(steps) : 0.0) << " ms/step)\n";
+       << (steps > 0 ? 1000.0 * seconds / double(steps) : 0.0) << " ms/step, "
+       << sceneWorld.controller().threads() << " thread" << (sceneWorld.controller().threads() == 1 ? "" : "s")
+       << ", cpu)\n";
   for (std::size_t i = 0; i < sceneWorld.bodies().size(); ++i) {
     const btRigidBody* body = sceneWorld.bodies()[i];
     const Eigen::Vector3d p(body->getCenterOfMassPosition().x(), body->getCenterOfMassPosition().y(),
@@ -171,6 +202,11 @@ void addSimulateVerb(CLI::App& app, VerbAction& action) {
   verb->add_option("scene", options->scenePath, "Scene file (JSON; mesh paths relative to it)")->required();
   verb->add_option("--csv", options->csvPath, "Write one row per body every N steps to this CSV file");
   verb->add_option("--every", options->every, "Write a CSV row every N steps (default 1)");
+  verb->add_option("--threads", options->threads,
+                   "Threads for the bodies' loads (0: all cores; default: the scene's `threads`, else 0); "
+                   "results are bit-identical for every count");
+  verb->add_option("--backend", options->backend,
+                   "Backend of the controller: cpu or auto (the CPU; the GL backend is not yet reachable from the controller)");
   verb->add_flag("--json", options->json, "Print the summary as one JSON object");
   verb->callback([options, &action] { action = [options] { return runSimulate(*options); }; });
 }

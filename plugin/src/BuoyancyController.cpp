@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "BodyThreads.hpp"
 #include "BulletEigen.hpp"
 #include "FloatingBody.hpp"
 #include "hydrotex/BodyGeometry.hpp"
@@ -106,6 +107,26 @@ Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
   return block.inverse();
 }
 
+/// Adds one body's counters of a step to the controller's.
+void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
+  // Every counter is a std::uint64_t: a new one that is not added here fails this check.
+  static_assert(sizeof(ControllerStatistics) == 14 * sizeof(std::uint64_t), "add the new counter below");
+  into.steps += from.steps;
+  into.hydrostaticsQueries += from.hydrostaticsQueries;
+  into.dragPasses += from.dragPasses;
+  into.dragPatchesVisited += from.dragPatchesVisited;
+  into.addedMassUpdates += from.addedMassUpdates;
+  into.skippedOutOfLiquid += from.skippedOutOfLiquid;
+  into.skippedAsleep += from.skippedAsleep;
+  into.failedQueries += from.failedQueries;
+  into.massUpdates += from.massUpdates;
+  into.massTexelPasses += from.massTexelPasses;
+  into.deformations += from.deformations;
+  into.floodingSteps += from.floodingSteps;
+  into.permeableTexelsVisited += from.permeableTexelsVisited;
+  into.wettingSteps += from.wettingSteps;
+}
+
 }  // namespace
 
 Status LiquidSettings::validate() const {
@@ -124,15 +145,21 @@ Status ControllerSettings::validate() const {
   if (bad(restLinearSpeed)) return Error{"restLinearSpeed: must be >= 0 and finite"};
   if (bad(restAngularSpeed)) return Error{"restAngularSpeed: must be >= 0 and finite"};
   if (bad(debugMetersPerNewton)) return Error{"debugMetersPerNewton: must be >= 0 and finite"};
+  if (threads < 0) return Error{"threads: " + std::to_string(threads) + ": must be >= 0 (0: all cores)"};
   return Ok{};
 }
 
 BuoyancyController::BuoyancyController(btDynamicsWorld& world, LiquidSettings liquid, ControllerSettings settings)
-    : world_(world), liquid_(std::move(liquid)), settings_(settings) {}
+    : world_(world),
+      liquid_(std::move(liquid)),
+      settings_(settings),
+      threads_(std::make_unique<BodyThreads>(std::max(settings.threads, 0))) {}
 
 BuoyancyController::~BuoyancyController() {
   while (!bodies_.empty()) removeBody(bodies_.back()->body);
 }
+
+int BuoyancyController::threads() const { return threads_->threads(); }
 
 Status BuoyancyController::setLiquid(LiquidSettings liquid) {
   if (Status s = liquid.validate(); !s) return s;
@@ -470,7 +497,16 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   if (!(dt > 0.0) || !liquid_.surface) return;
   time_ += dt;
   ++statistics_.steps;
-  for (const auto& floating : bodies_) stepBody(*floating, dt);
+  // Read (serial): everything that changes Bullet's bodies or shapes before the forces (deformation,
+  // flooding, mass), then each body's kinematics, once.
+  for (const auto& floating : bodies_) readBody(*floating, dt);
+  // Compute (parallel): each call reads its own body's record and the shared liquid through const
+  // calls (LiquidSurface's contract: thread-safe), and writes only into that record.
+  threads_->forEach(bodies_.size(), [&](std::size_t i) { computeBody(*bodies_[i], dt); });
+  // Write (serial, registration order): velocities and sleeping state to Bullet, counters added.
+  for (const auto& floating : bodies_) writeBody(*floating);
+  // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
+  // positions and activation in the same pass; it would have to be split into phases as above.
   const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
   for (SoftBodyBuoyancy& soft : softBodies_) {
     if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
@@ -506,38 +542,60 @@ const SoftBodyReport* BuoyancyController::softBodyReport(const btSoftBody* body)
   return nullptr;
 }
 
-void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
+void BuoyancyController::readBody(FloatingBody& floating, double dt) {
   btRigidBody* body = floating.body;
-  FloatingBodyReport& report = floating.report;
-  const LiquidSurface& surface = *liquid_.surface;
-  const FloatingBodySettings& settings = floating.settings;
-  const EffectSet effects = settings.effects;
-  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
-
-  // Variable mass and deformation first: the forces below must see this step's body.
+  const EffectSet effects = floating.settings.effects;
+  // Variable mass and deformation first: the forces must see this step's body. They change
+  // Bullet's body and shape (mass, frame, AABB) and run user callbacks: serial.
   if (floating.deformation) deform(floating);
   if (floating.flooding) flood(floating, dt);  // follows the mass model itself
   if (floating.massModel && !floating.flooding && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
     followMassModel(floating);
   }
+  BodyStep& step = floating.step;
+  step = BodyStep{};
+  step.meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
+  step.center = body->getCenterOfMassPosition();
+  step.linearVelocity = body->getLinearVelocity();
+  step.angularVelocity = body->getAngularVelocity();
+  step.gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
+  step.active = body->isActive();
+  step.dynamic = body->getInvMass() > btScalar(0);
+}
+
+void BuoyancyController::writeBody(FloatingBody& floating) {
+  btRigidBody* body = floating.body;
+  const BodyStep& step = floating.step;
+  if (step.wake) body->activate(true);
+  if (step.holdAwake) body->setDeactivationTime(0);
+  if (step.setLinear) body->setLinearVelocity(step.nextLinear);
+  if (step.setAngular) body->setAngularVelocity(step.nextAngular);
+  addCounters(statistics_, step.counters);
+}
+
+void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
+  FloatingBodyReport& report = floating.report;
+  BodyStep& step = floating.step;
+  ControllerStatistics& counters = step.counters;
+  const LiquidSurface& surface = *liquid_.surface;
+  const FloatingBodySettings& settings = floating.settings;
+  const EffectSet effects = settings.effects;
+  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
 
   // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
-  if (floating.wetting) {
-    const btTransform placed = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
-    wet(floating, toPose(placed), toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity), dt);
-  }
+  if (floating.wetting) wet(floating, toPose(step.meshWorld), step.gravity, dt);
 
   // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
-  if (!body->isActive() && still) {
-    ++statistics_.skippedAsleep;
+  if (!step.active && still) {
+    ++counters.skippedAsleep;
     return;
   }
-  if (body->getInvMass() <= btScalar(0)) return;
+  if (!step.dynamic) return;
 
-  const btTransform meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
+  const btTransform& meshWorld = step.meshWorld;
   const Pose meshPose = toPose(meshWorld);
-  const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
-  const Eigen::Vector3d gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
+  const Eigen::Vector3d center = toEigen(step.center);
+  const Eigen::Vector3d& gravity = step.gravity;
   const double mass = report.massProperties.mass;
   report.hydrostatics = HydrostaticsResult{};
   report.dragForce = report.dragTorque = btVector3(0, 0, 0);
@@ -551,8 +609,9 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     const double margin = surface.flatHeight() ? 0.0 : floating.boundsRadius;
     const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
     if (sphere.y() - floating.boundsRadius > level + margin) {
-      ++statistics_.skippedOutOfLiquid;
-      body->setLinearVelocity(body->getLinearVelocity() + toBullet(dt * gravity));  // free fall
+      ++counters.skippedOutOfLiquid;
+      step.nextLinear = step.linearVelocity + toBullet(dt * gravity);  // free fall
+      step.setLinear = true;
       return;
     }
   }
@@ -568,7 +627,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
     query.centerOfMass = report.massProperties.centerOfMass;
     query.time = time_;
     query.mass = mass;
-    ++statistics_.hydrostaticsQueries;
+    ++counters.hydrostaticsQueries;
     Expected<HydrostaticsResult> result = floating.texture
                                               ? floating.texture->query(surface, query)
                                               : polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query);
@@ -580,12 +639,12 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
         stiffness = result->stiffness;
       }
     } else {
-      ++statistics_.failedQueries;
+      ++counters.failedQueries;
     }
   }
 
-  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
-  const Eigen::Vector3d w = toEigen(body->getAngularVelocity());
+  const Eigen::Vector3d v = toEigen(step.linearVelocity);
+  const Eigen::Vector3d w = toEigen(step.angularVelocity);
   const Eigen::Matrix3d rotation = meshPose.rotation;
   // In double from the mesh-axes inertia: Bullet's float inverse inertia, inverted, loses the
   // small moment of a needle (inverse moments 1e10 and 1e4 kg^-1 m^-2 in one float matrix).
@@ -596,7 +655,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   Eigen::Vector3d liquidVelocityAtCenter = toEigen(liquid_.current);
   double dragDamping = 0.0;  // lambda, dimensionless
   if (effects.has(Effect::Drag)) {
-    ++statistics_.dragPasses;
+    ++counters.dragPasses;
     liquidVelocityAtCenter += surface.velocity(center, time_);
     double wettedArea = 0.0;
     // One skin friction coefficient per body and step, from the body's Reynolds number (the
@@ -623,7 +682,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
         wetFraction = std::clamp(0.5 + 0.5 * depth / radius, 0.0, 1.0);
         if (wetFraction <= 0.0) continue;
       }
-      ++statistics_.dragPatchesVisited;
+      ++counters.dragPatchesVisited;
       const Eigen::Vector3d r = p - center;
       const Eigen::Vector3d liquidVelocity = still ? current : Eigen::Vector3d(surface.velocity(p, time_) + current);
       const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
@@ -654,7 +713,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   // Added mass: the liquid accelerated with the body, from the submerged volume.
   double addedMass = 0.0;
   if (effects.has(Effect::AddedMass)) {
-    ++statistics_.addedMassUpdates;
+    ++counters.addedMassUpdates;
     addedMass = settings.addedMassCoefficient * report.hydrostatics.fluidDensity * report.hydrostatics.submergedVolume;
     report.addedMass = addedMass;
   }
@@ -699,7 +758,7 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
   }
   const Vector6d next = system.ldlt().solve(rhs);
   if (!next.allFinite()) {
-    ++statistics_.failedQueries;
+    ++counters.failedQueries;
     return;
   }
 
@@ -712,21 +771,21 @@ void BuoyancyController::stepBody(FloatingBody& floating, double dt) {
                   netTorque.norm() <= settings_.restForceFraction * weight * floating.referenceLength &&
                   (v - liquidVelocityAtCenter).norm() <= settings_.restLinearSpeed &&
                   w.norm() <= settings_.restAngularSpeed;
-  if (!body->isActive()) {
+  if (!step.active) {
     if (report.atRest) {
-      ++statistics_.skippedAsleep;
+      ++counters.skippedAsleep;
       return;
     }
-    body->activate(true);
+    step.wake = true;
   } else if (!report.atRest) {
-    body->setDeactivationTime(0);
+    step.holdAwake = true;
   }
-
-  body->setLinearVelocity(toBullet(Eigen::Vector3d(next.head<3>())));
-  body->setAngularVelocity(toBullet(Eigen::Vector3d(next.tail<3>())));
+  step.nextLinear = toBullet(Eigen::Vector3d(next.head<3>()));
+  step.nextAngular = toBullet(Eigen::Vector3d(next.tail<3>()));
+  step.setLinear = step.setAngular = true;
 }
 
-void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) {
+void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) const {
   WettingState& state = *floating.wetting;
   WettingEnvironment& environment = state.environment;
   environment.liquid = liquid_.surface.get();
@@ -734,10 +793,10 @@ void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const
   environment.time = time_;
   // Without downward gravity there is no hydrostatic head; a vanishing g drives no absorption.
   environment.gravity = -gravity.y() > 0.0 ? -gravity.y() : 1e-12;
-  ++statistics_.wettingSteps;
+  ++floating.step.counters.wettingSteps;
   Expected<WettingStepReport> stepped = state.solver.step(state.texture, environment, dt);
   if (!stepped) {
-    ++statistics_.failedQueries;
+    ++floating.step.counters.failedQueries;
     return;
   }
   FloatingBodyReport& report = floating.report;

@@ -520,7 +520,16 @@ Status Scene::validate() const {
   if (!fluidVelocity.allFinite()) return Error{prefix + ": fluid.velocity: not finite"};
   if (seabed && !std::isfinite(*seabed)) return Error{prefix + ": seabed: not finite"};
   if (bodies.empty() && softBodies.empty()) return Error{prefix + ": bodies: at least one body is needed"};
+  if (threads < 0) return Error{prefix + ": threads: " + std::to_string(threads) + ": must be >= 0 (0: all cores)"};
   return Ok{};
+}
+
+Status checkControllerBackend(const std::string& name) {
+  if (name == "cpu" || name == "auto") return Ok{};
+  if (name == "gpu") {
+    return Error{"\"gpu\": the GL backend is not yet reachable from the buoyancy controller; use \"cpu\" or \"auto\" (the CPU)"};
+  }
+  return Error{"\"" + name + "\": expected \"cpu\" or \"auto\""};
 }
 
 Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName) {
@@ -534,6 +543,16 @@ Expected<Scene> parseScene(const std::string& text, const std::string& baseDirec
   HYDROTEX_TRY(reader.number("dt", scene.dt));
   HYDROTEX_TRY(reader.number("duration", scene.duration));
   HYDROTEX_TRY(reader.integer("substeps", scene.substeps));
+  if (const Json* threads = reader.find("threads")) {
+    if (!threads->is_number_integer() || threads->get<long long>() < 0 ||
+        threads->get<long long>() > std::numeric_limits<int>::max()) {
+      return reader.error("threads", threads->dump() + ": expected a whole number >= 0 (0: all cores)");
+    }
+    scene.threads = threads->get<int>();
+  }
+  std::string backend = "auto";
+  HYDROTEX_TRY(reader.string("backend", backend));
+  if (Status s = checkControllerBackend(backend); !s) return reader.error("backend", s.error().message);
   if (const Json* fluid = reader.find("fluid")) {
     if (!fluid->is_object()) return reader.error("fluid", "expected an object");
     ObjectReader fluidReader(*fluid, "fluid", sourceName);
@@ -628,7 +647,9 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
   liquid.viscosity = scene.viscosity;
   liquid.current = toBullet(scene.fluidVelocity);
   if (Status s = liquid.validate(); !s) return Error{scene.sourceName + ": fluid: " + s.error().message};
-  self->controller_ = std::make_unique<BuoyancyController>(*self->world_, liquid);
+  ControllerSettings controllerSettings;
+  controllerSettings.threads = scene.threads;
+  self->controller_ = std::make_unique<BuoyancyController>(*self->world_, liquid, controllerSettings);
   self->world_->addAction(self->controller_.get());
 
   if (scene.seabed) {

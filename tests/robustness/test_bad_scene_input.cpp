@@ -26,7 +26,7 @@ namespace {
 /// A scene that uses every key the parser knows (mesh paths relative to data/meshes).
 Json fullScene() {
   return Json::parse(R"({
-    "gravity": [0, -9.81, 0], "dt": 0.01, "duration": 0.05, "substeps": 2,
+    "gravity": [0, -9.81, 0], "dt": 0.01, "duration": 0.05, "substeps": 2, "threads": 2, "backend": "cpu",
     "fluid": { "density": 1000, "viscosity": 0.001, "velocity": [0.1, 0, 0],
                "surface": { "type": "waves", "height": 0.1,
                             "waves": [ { "amplitude": 0.1, "wavelength": 10, "direction": [1, 0],
@@ -72,7 +72,7 @@ std::vector<Json> wrongTypesFor(const Json& value, const std::string& name) {
   std::vector<Json> wrong;
   if (!value.is_string()) wrong.emplace_back("text");
   if (!value.is_number()) wrong.emplace_back(1.5);
-  if (name == "resolution" || name == "substeps") wrong.emplace_back(2.5);
+  if (name == "resolution" || name == "substeps" || name == "threads") wrong.emplace_back(2.5);
   if (!value.is_boolean()) wrong.emplace_back(true);
   if (!value.is_null()) wrong.emplace_back(nullptr);
   if (!value.is_array()) wrong.emplace_back(Json::array());
@@ -150,6 +150,11 @@ TEST_CASE("impossible values are refused, naming the key", "[robustness][scene][
       {"/duration", -1.0, "duration"},
       {"/substeps", 0, "substeps"},
       {"/substeps", 1000, "substeps"},
+      {"/threads", -1, "threads: -1"},
+      {"/threads", "many", "threads: \"many\""},
+      {"/threads", 1e12, "threads"},
+      {"/backend", "gpu", "backend: \"gpu\": the GL backend is not yet reachable"},
+      {"/backend", "quantum", "backend: \"quantum\""},
       {"/bodies/0/resolution", 0, "resolution"},
       {"/bodies/0/resolution", 1 << 20, "resolution"},
       {"/bodies/0/effects", Json::array({"buoyancy", "levitation"}), "levitation"},
@@ -244,6 +249,9 @@ TEST_CASE("hydrotex simulate refuses bad scenes with one line and a non-zero exi
       {"/bodies/0/mesh", "missing_mesh.obj", "missing_mesh.obj"},
       {"/bodies/0/position", Json::array({0, 0}), "position"},
       {"/fluid/surface", "flat", "surface"},
+      {"/threads", -1, "threads: -1"},
+      {"/threads", "many", "\"many\""},
+      {"/backend", "gpu", "not yet reachable"},
   };
   for (const Case& c : cases) {
     Json broken = fullScene();
@@ -255,6 +263,13 @@ TEST_CASE("hydrotex simulate refuses bad scenes with one line and a non-zero exi
   requireCleanFailure(runTool("simulate " + writeScratch("robust_not_json.json", "{ \"dt\": "), 120),
                       "robust_not_json.json");
   requireCleanFailure(runTool("simulate " + outputPath("robust_no_such_scene.json"), 120), "robust_no_such_scene.json");
+  // The command line's --threads and --backend, refused before the scene is run.
+  const std::string valid = sceneFile("robust_valid_scene.json", fullScene());
+  requireCleanFailure(runTool("simulate " + valid + " --threads many", 120), "--threads many");
+  requireCleanFailure(runTool("simulate " + valid + " --threads -1", 120), "--threads -1");
+  requireCleanFailure(runTool("simulate " + valid + " --threads 2x", 120), "--threads 2x");
+  requireCleanFailure(runTool("simulate " + valid + " --backend gpu", 120), "not yet reachable");
+  requireCleanFailure(runTool("simulate " + valid + " --backend quantum", 120), "quantum");
   // A scene whose mesh exists but is garbage fails when the world is built: still one line.
   Json garbage = fullScene();
   garbage["bodies"][0]["mesh"] = writeScratch("robust_tool_garbage.obj", "garbage\x01\n");

@@ -48,6 +48,12 @@ struct ControllerSettings {
   /// Length of the debug force arrows per newton of force (m/N); 0 picks one per body so that
   /// the weight arrow is as long as the body.
   double debugMetersPerNewton = 0.0;
+  /// Threads that compute the rigid bodies' loads and implicit updates each step (the parallel
+  /// phase of updateAction). 0: every core the process may use, or, when the user set a Bullet
+  /// btITaskScheduler with more than one thread (btSetTaskScheduler), that scheduler; N >= 1: at
+  /// most N (capped at the cores). Each body's numbers depend only on its own state, so results
+  /// are bit-identical for every count: the default takes them all. 1 starts no thread.
+  int threads = 0;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
 };
@@ -86,6 +92,7 @@ struct FloatingBodyReport {
   double liquidEvaporated = 0.0;     ///< with Effect::Wetting: evaporated since registration (m^3)
 };
 
+class BodyThreads;
 class FloatingBody;
 
 /// Makes registered btRigidBody objects float. Not copyable; the world and the bodies must
@@ -171,8 +178,15 @@ class BuoyancyController : public btActionInterface {
   const ControllerStatistics& statistics() const { return statistics_; }
   /// Zeroes the work counters.
   void resetStatistics() { statistics_ = {}; }
+  /// Threads the next step's parallel phase runs on (ControllerSettings::threads resolved: >= 1).
+  int threads() const;
 
-  /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds.
+  /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in three
+  /// phases over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels):
+  /// read each body from Bullet (with its deformation, flooding and mass changes; serial), compute
+  /// every body's liquid texture, loads and implicit velocity update from its own record alone
+  /// (parallel, ControllerSettings::threads), write each body back in registration order and add
+  /// its counters (serial). Soft bodies follow, serially.
   void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
   /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
   /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
@@ -180,13 +194,15 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
-  void stepBody(FloatingBody& floating, double dt);
+  void readBody(FloatingBody& floating, double dt);
+  void computeBody(FloatingBody& floating, double dt) const;
+  void writeBody(FloatingBody& floating);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
   Status attachDeformedCollision(FloatingBody& floating);
   void followMassModel(FloatingBody& floating);
   void flood(FloatingBody& floating, double dt);
-  void wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt);
+  void wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) const;
 
   btDynamicsWorld& world_;
   LiquidSettings liquid_;
@@ -194,6 +210,7 @@ class BuoyancyController : public btActionInterface {
   std::vector<std::unique_ptr<FloatingBody>> bodies_;
   std::vector<SoftBodyBuoyancy> softBodies_;
   ControllerStatistics statistics_;
+  std::unique_ptr<BodyThreads> threads_;
   double time_ = 0.0;
 };
 

@@ -104,6 +104,8 @@ struct Scene {
   /// Bodies with `soft: true`, in file order; kept apart so that `bodies` and
   /// SceneWorld::bodies() stay index for index.
   std::vector<SceneBody> softBodies;
+  /// `threads`: ControllerSettings::threads (0: all cores; >= 1: at most that many).
+  int threads = 0;
   /// Number of steps the duration takes (rounded to the nearest whole step).
   long long stepCount() const;
   /// One line naming the first impossible value (non-positive dt, NaN, no bodies, ...), or Ok.
@@ -113,6 +115,12 @@ struct Scene {
 /// Parses scene JSON `text`; mesh paths are resolved against `baseDirectory`; messages start
 /// with `sourceName`. Errors name the key: unknown keys, wrong types, impossible values.
 Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName);
+
+/// Checks the name of the backend that runs a scene's controller (scene key `backend`, `hydrotex
+/// simulate --backend`): "cpu", or "auto" (the CPU for now). "gpu" is refused: the GL backend
+/// (hydrotex::gpu) computes hydrostatics and wetting for the tool's verbs, but the
+/// BuoyancyController cannot reach it yet. The message names the value.
+Status checkControllerBackend(const std::string& name);
 
 /// Reads and parses the scene file at `path` (mesh paths relative to the file).
 Expected<Scene> loadScene(const std::string& path);
