@@ -167,7 +167,7 @@ void BuoyancyController::deform(FloatingBody& floating) {
   // PT/VAT from the moved vertices through the kept texel pieces (docs/design.md "Exact texels").
   // In place, allocation-free: the evaluator, the hydrostatics and the mass model reuse their buffers.
   state.evaluator.evaluate(*state.current, state.textures);
-  if (floating.texture && !floating.texture->update(state.textures)) ++statistics_.failedQueries;
+  if (floating.backendBody && !backend_->updateSurface(*floating.backendBody, state.textures)) ++statistics_.failedQueries;
   // The mass model sums over the moved triangles (followTriangles at registration): O(triangles).
   if (floating.massModel && !floating.massModel->setGeometry(*state.current)) ++statistics_.failedQueries;
   if (settings.effects.has(Effect::Drag)) {

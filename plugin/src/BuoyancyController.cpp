@@ -6,7 +6,10 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <optional>
+#include <span>
 
 #include "BodyThreads.hpp"
 #include "BulletEigen.hpp"
@@ -110,7 +113,7 @@ Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
 /// Adds one body's counters of a step to the controller's.
 void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   // Every counter is a std::uint64_t: a new one that is not added here fails this check.
-  static_assert(sizeof(ControllerStatistics) == 14 * sizeof(std::uint64_t), "add the new counter below");
+  static_assert(sizeof(ControllerStatistics) == 15 * sizeof(std::uint64_t), "add the new counter below");
   into.steps += from.steps;
   into.hydrostaticsQueries += from.hydrostaticsQueries;
   into.dragPasses += from.dragPasses;
@@ -125,6 +128,7 @@ void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   into.floodingSteps += from.floodingSteps;
   into.permeableTexelsVisited += from.permeableTexelsVisited;
   into.wettingSteps += from.wettingSteps;
+  into.backendBatches += from.backendBatches;
 }
 
 }  // namespace
@@ -153,7 +157,16 @@ BuoyancyController::BuoyancyController(btDynamicsWorld& world, LiquidSettings li
     : world_(world),
       liquid_(std::move(liquid)),
       settings_(settings),
-      threads_(std::make_unique<BodyThreads>(std::max(settings.threads, 0))) {}
+      threads_(std::make_unique<BodyThreads>(std::max(settings.threads, 0))),
+      backend_(settings.backend) {
+  // The default backend computes its batch on the controller's own threads.
+  if (!backend_) {
+    BodyThreads* threads = threads_.get();
+    backend_ = makeCpuBackend([threads](std::size_t count, const std::function<void(std::size_t)>& work) {
+      threads->forEach(count, work);
+    });
+  }
+}
 
 BuoyancyController::~BuoyancyController() {
   while (!bodies_.empty()) removeBody(bodies_.back()->body);
@@ -186,6 +199,15 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (find(body) != nullptr) return Error{"body: already registered"};
   if (body->getCollisionShape() == nullptr) return Error{"body: has no collision shape"};
   if (Status s = settings.validate(); !s) return s;
+  if (backend_->name() != "cpu") {
+    // Their texel passes exist on the CPU only for now (the GL wetting runs standalone, GlWetting).
+    for (Effect effect : {Effect::Flooding, Effect::Wetting}) {
+      if (settings.effects.has(effect)) {
+        return Error{"effects: '" + std::string(effectName(effect)) + "' is not served by the " + backend_->name() +
+                     " backend yet; use the cpu backend for this body's controller"};
+      }
+    }
+  }
 
   auto floating = std::make_unique<FloatingBody>();
   floating->body = body;
@@ -249,9 +271,11 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     if (!geometry) return geometry.error();
     if (settings.method == HydrostaticsMethod::Texture &&
         (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass))) {
-      Expected<TextureHydrostatics> texture = TextureHydrostatics::build(geometry->bake, geometry->textures);
-      if (!texture) return texture.error();
-      floating->texture.emplace(std::move(texture).value());
+      // The cone apex of the backend's mass pass: the bounding box's centre, as the mass model's.
+      Expected<BackendBodyId> id = backend_->addBody(geometry->bake, geometry->textures, floating->boundsCenter);
+      if (!id) return id.error();
+      floating->backendBody = *id;
+      floating->backendTexels = geometry->textures.size();
     }
     if (settings.effects.has(Effect::Drag)) {
       floating->dragPatches = mergeTexelsIntoDragPatches(geometry->bake, geometry->textures,
@@ -386,7 +410,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     return s;
   }
   std::size_t bytes = registered.dragPatches.capacity() * sizeof(DragPatch);
-  if (registered.texture) bytes += registered.texture->texelCount() * sizeof(TextureHydrostatics::Texel);
+  if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
   registered.report.effectMemoryBytes = bytes;
   return Ok{};
 }
@@ -421,6 +445,7 @@ bool BuoyancyController::removeBody(btRigidBody* body) {
   if (body->getBroadphaseHandle() != nullptr) world_.updateSingleAabb(body);
   body->setFlags(floating.originalFlags);
   body->setGravity(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
+  if (floating.backendBody) backend_->releaseBody(*floating.backendBody);
   bodies_.erase(it);
   return true;
 }
@@ -500,8 +525,13 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   // Read (serial): everything that changes Bullet's bodies or shapes before the forces (deformation,
   // flooding, mass), then each body's kinematics, once.
   for (const auto& floating : bodies_) readBody(*floating, dt);
-  // Compute (parallel): each call reads its own body's record and the shared liquid through const
-  // calls (LiquidSurface's contract: thread-safe), and writes only into that record.
+  // Plan (serial, cheap): what each body needs this step; the texture queries form one batch.
+  queries_.clear();
+  for (const auto& floating : bodies_) planBody(*floating);
+  // The backend (serial: the GL one owns a context on this thread): one batch, read back once.
+  askBackend();
+  // Compute (parallel): each call reads its own body's record, its backend answer and the shared
+  // liquid through const calls (LiquidSurface's contract: thread-safe), and writes only into its record.
   threads_->forEach(bodies_.size(), [&](std::size_t i) { computeBody(*bodies_[i], dt); });
   // Write (serial, registration order): velocities and sleeping state to Bullet, counters added.
   for (const auto& floating : bodies_) writeBody(*floating);
@@ -573,6 +603,65 @@ void BuoyancyController::writeBody(FloatingBody& floating) {
   addCounters(statistics_, step.counters);
 }
 
+void BuoyancyController::planBody(FloatingBody& floating) {
+  BodyStep& step = floating.step;
+  const LiquidSurface& surface = *liquid_.surface;
+  // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
+  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
+  if (!step.active && still) {
+    step.plan = BodyStep::Plan::Asleep;
+    return;
+  }
+  if (!step.dynamic) {
+    step.plan = BodyStep::Plan::Static;
+    return;
+  }
+  // Bodies wholly out of the liquid cost a bounding-sphere test. Away from a flat plane the
+  // surface may rise within the sphere's footprint; slopes up to 1 are covered by the margin.
+  const Pose meshPose = toPose(step.meshWorld);
+  if (surface.hasFreeSurface()) {
+    const Eigen::Vector3d sphere = meshPose.apply(floating.boundsCenter);
+    const double margin = surface.flatHeight() ? 0.0 : floating.boundsRadius;
+    const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
+    if (sphere.y() - floating.boundsRadius > level + margin) {
+      step.plan = BodyStep::Plan::OutOfLiquid;
+      return;
+    }
+  }
+  step.plan = BodyStep::Plan::Compute;
+  const EffectSet effects = floating.settings.effects;
+  const double pressureGravity = -step.gravity.y();
+  if (floating.backendBody && (effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
+    BackendHydrostaticsQuery asked;
+    asked.body = *floating.backendBody;
+    asked.query.pose = meshPose;
+    asked.query.gravity = pressureGravity;
+    asked.query.centerOfMass = floating.report.massProperties.centerOfMass;
+    asked.query.time = time_;
+    asked.query.mass = floating.report.massProperties.mass;
+    ++step.counters.hydrostaticsQueries;
+    step.query = queries_.size();
+    queries_.push_back(asked);
+  }
+}
+
+void BuoyancyController::askBackend() {
+  if (queries_.empty()) return;
+  answers_.resize(queries_.size());
+  ++statistics_.backendBatches;
+  const LiquidSurface& surface = *liquid_.surface;
+  if (backend_->hydrostatics(surface, queries_, answers_)) return;
+  // A batch fails whole (nothing written): ask each body alone, so that one bad body does not
+  // cost the others their buoyancy. Counted: each is a batch of its own.
+  for (const auto& floating : bodies_) {
+    BodyStep& step = floating->step;
+    if (!step.query) continue;
+    ++statistics_.backendBatches;
+    const std::size_t i = *step.query;
+    if (!backend_->hydrostatics(surface, std::span(&queries_[i], 1), std::span(&answers_[i], 1))) step.queryFailed = true;
+  }
+}
+
 void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   FloatingBodyReport& report = floating.report;
   BodyStep& step = floating.step;
@@ -585,12 +674,11 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
   if (floating.wetting) wet(floating, toPose(step.meshWorld), step.gravity, dt);
 
-  // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
-  if (!step.active && still) {
+  if (step.plan == BodyStep::Plan::Asleep) {
     ++counters.skippedAsleep;
     return;
   }
-  if (!step.dynamic) return;
+  if (step.plan == BodyStep::Plan::Static) return;
 
   const btTransform& meshWorld = step.meshWorld;
   const Pose meshPose = toPose(meshWorld);
@@ -602,41 +690,39 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   report.addedMass = 0.0;
   report.atRest = false;
 
-  // Bodies wholly out of the liquid cost a bounding-sphere test. Away from a flat plane the
-  // surface may rise within the sphere's footprint; slopes up to 1 are covered by the margin.
-  if (surface.hasFreeSurface()) {
-    const Eigen::Vector3d sphere = meshPose.apply(floating.boundsCenter);
-    const double margin = surface.flatHeight() ? 0.0 : floating.boundsRadius;
-    const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
-    if (sphere.y() - floating.boundsRadius > level + margin) {
-      ++counters.skippedOutOfLiquid;
-      step.nextLinear = step.linearVelocity + toBullet(dt * gravity);  // free fall
-      step.setLinear = true;
-      return;
-    }
+  if (step.plan == BodyStep::Plan::OutOfLiquid) {
+    ++counters.skippedOutOfLiquid;
+    step.nextLinear = step.linearVelocity + toBullet(dt * gravity);  // free fall
+    step.setLinear = true;
+    return;
   }
 
-  // Buoyancy (and the submerged volume that added mass needs).
+  // Buoyancy (and the submerged volume that added mass needs): the backend's answer for a texture
+  // body, the exact path here for the others.
   const double pressureGravity = -gravity.y();
   Eigen::Vector3d buoyancyForce = Eigen::Vector3d::Zero(), buoyancyTorque = Eigen::Vector3d::Zero();
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
   if ((effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
-    HydrostaticsQuery query;
-    query.pose = meshPose;
-    query.gravity = pressureGravity;
-    query.centerOfMass = report.massProperties.centerOfMass;
-    query.time = time_;
-    query.mass = mass;
-    ++counters.hydrostaticsQueries;
-    Expected<HydrostaticsResult> result = floating.texture
-                                              ? floating.texture->query(surface, query)
-                                              : polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query);
-    if (result) {
-      report.hydrostatics = *result;
+    std::optional<HydrostaticsResult> answer;
+    if (step.query) {
+      if (!step.queryFailed) answer = answers_[*step.query];
+    } else {
+      HydrostaticsQuery query;
+      query.pose = meshPose;
+      query.gravity = pressureGravity;
+      query.centerOfMass = report.massProperties.centerOfMass;
+      query.time = time_;
+      query.mass = mass;
+      ++counters.hydrostaticsQueries;
+      Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query);
+      if (exact) answer = *exact;
+    }
+    if (answer) {
+      report.hydrostatics = *answer;
       if (effects.has(Effect::Buoyancy)) {
-        buoyancyForce = result->buoyancyForce;
-        buoyancyTorque = result->torqueAboutCenterOfMass;
-        stiffness = result->stiffness;
+        buoyancyForce = answer->buoyancyForce;
+        buoyancyTorque = answer->torqueAboutCenterOfMass;
+        stiffness = answer->stiffness;
       }
     } else {
       ++counters.failedQueries;

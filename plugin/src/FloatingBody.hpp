@@ -68,7 +68,11 @@ struct BodyStep {
   bool setAngular = false;                             ///< hand nextAngular to Bullet
   btVector3 nextLinear{0, 0, 0};                       ///< m/s
   btVector3 nextAngular{0, 0, 0};                      ///< rad/s
-  ControllerStatistics counters;                       ///< this body's work in the parallel phase
+  /// What the plan phase decided (BuoyancyController::planBody).
+  enum class Plan { Compute, Asleep, Static, OutOfLiquid } plan = Plan::Compute;
+  std::optional<std::size_t> query;                    ///< its index in the step's backend batch
+  bool queryFailed = false;                            ///< the backend could not answer it
+  ControllerStatistics counters;                       ///< this body's work in the plan and parallel phases
 };
 
 /// One registered body.
@@ -76,7 +80,8 @@ struct FloatingBody {
   btRigidBody* body = nullptr;                  ///< not owned
   FloatingBodySettings settings;                ///< as registered (validated)
   std::shared_ptr<const Mesh> mesh;             ///< closed mesh, mesh frame (m)
-  std::optional<TextureHydrostatics> texture;   ///< only for HydrostaticsMethod::Texture
+  std::optional<BackendBodyId> backendBody;     ///< its id in the controller's backend (HydrostaticsMethod::Texture)
+  std::size_t backendTexels = 0;                ///< covered texels registered there
   std::vector<DragPatch> dragPatches;           ///< only when Effect::Drag is listed
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned

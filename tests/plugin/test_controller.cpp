@@ -67,6 +67,7 @@ TEST_CASE("an effect a body does not list costs nothing", "[controller][effects]
   CHECK(stats.dragPasses == steps);               // the dragged body only
   CHECK(stats.dragPatchesVisited > 0);
   CHECK(stats.addedMassUpdates == 0);             // nobody listed added_mass
+  CHECK(stats.backendBatches == steps);           // both texture bodies in one batch, read back once a step
 }
 
 TEST_CASE("settings say what is wrong", "[controller][settings]") {

@@ -8,6 +8,7 @@
 /// together.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -54,6 +55,12 @@ class ComputeBackend {
   /// Number of registered bodies.
   virtual std::size_t bodyCount() const = 0;
 
+  /// Frees what a body holds, when its owner no longer asks for it (a controller's removeBody).
+  /// Its id stays taken, and asking for it afterwards is an error of the pass that asks. The
+  /// default keeps everything (the GL backend packs all bodies in shared buffers and keeps their
+  /// slots until it is destroyed).
+  virtual void releaseBody(BackendBodyId body) { (void)body; }
+
   /// Hydrostatics of every queried body in `surface`, one result per query (same order).
   /// Errors (nothing is written then): `results` shorter than `queries`, an unknown body, a body
   /// asked twice in one batch, an invalid query or surface (validateHydrostaticsQuery).
@@ -68,8 +75,14 @@ class ComputeBackend {
                                 std::span<MassProperties> results) = 0;
 };
 
-/// The CPU backend: TextureHydrostatics (tile hierarchy) and TextureMassIntegrator per body.
-std::unique_ptr<ComputeBackend> makeCpuBackend();
+/// Runs work(i) once for every i in [0, count), on as many threads as it likes, and returns when
+/// all calls have returned (a controller hands the CPU backend its own threads this way).
+using ParallelFor = std::function<void(std::size_t count, const std::function<void(std::size_t)>& work)>;
+
+/// The CPU backend: TextureHydrostatics (tile hierarchy) and TextureMassIntegrator per body. The
+/// bodies of one batch are computed through `parallelFor` (empty: one after the other); each
+/// body's answer depends only on its own data, so the results are the same for every thread count.
+std::unique_ptr<ComputeBackend> makeCpuBackend(ParallelFor parallelFor = {});
 
 /// The wetted-surface sums of one body under a flat surface at height h, in the world frame
 /// translated to o = (t_x, h, t_z) (t the body's translation), accumulated over texels or

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "hydrotex/ComputeBackend.hpp"
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/Hydrostatics.hpp"
 #include "hydrotex/LiquidGraph.hpp"
@@ -54,6 +55,14 @@ struct ControllerSettings {
   /// most N (capped at the cores). Each body's numbers depend only on its own state, so results
   /// are bit-identical for every count: the default takes them all. 1 starts no thread.
   int threads = 0;
+  /// The backend that computes the texture path's hydrostatics of every body, once per step in
+  /// one batch (the only per-step door to texel passes): null (the default) makes the controller
+  /// its own CPU backend on its threads. Pass hydrotex::gpu::makeGlBackend() (or
+  /// gpu::makeBackend("auto")) for the GL compute backend; `plugin/` itself links no GL. Drag,
+  /// added mass, the exact path, the mass model and deformation's surface evaluation run on the
+  /// controller's CPU threads with either backend; flooding and wetting need the CPU backend
+  /// (addBody refuses them, naming the effect, with another one).
+  std::shared_ptr<ComputeBackend> backend;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
 };
@@ -74,6 +83,7 @@ struct ControllerStatistics {
   std::uint64_t floodingSteps = 0;        ///< liquid graph steps (bodies listing Effect::Flooding)
   std::uint64_t permeableTexelsVisited = 0; ///< permeable texels those steps evaluated
   std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
+  std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
 };
 
 /// What the controller knows about one registered body after the last step.
@@ -180,13 +190,18 @@ class BuoyancyController : public btActionInterface {
   void resetStatistics() { statistics_ = {}; }
   /// Threads the next step's parallel phase runs on (ControllerSettings::threads resolved: >= 1).
   int threads() const;
+  /// The backend the texture path's hydrostatics run on (ControllerSettings::backend, or the
+  /// controller's own CPU one): name() "cpu" or "gpu", renderer() what ran it.
+  const ComputeBackend& backend() const { return *backend_; }
 
-  /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in three
-  /// phases over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels):
-  /// read each body from Bullet (with its deformation, flooding and mass changes; serial), compute
-  /// every body's liquid texture, loads and implicit velocity update from its own record alone
-  /// (parallel, ControllerSettings::threads), write each body back in registration order and add
-  /// its counters (serial). Soft bodies follow, serially.
+  /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in phases
+  /// over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels): read each
+  /// body from Bullet (with its deformation, flooding and mass changes) and decide what it needs
+  /// (asleep, out of the liquid, a texture query; serial); ask the backend once for every texture
+  /// body's hydrostatics (one batch, read back once); compute every body's liquid texture, other
+  /// loads and implicit velocity update from its own record alone (parallel,
+  /// ControllerSettings::threads); write each body back in registration order and add its
+  /// counters (serial). Soft bodies follow, serially.
   void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
   /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
   /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
@@ -195,6 +210,8 @@ class BuoyancyController : public btActionInterface {
  private:
   FloatingBody* find(const btRigidBody* body) const;
   void readBody(FloatingBody& floating, double dt);
+  void planBody(FloatingBody& floating);
+  void askBackend();
   void computeBody(FloatingBody& floating, double dt) const;
   void writeBody(FloatingBody& floating);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
@@ -211,6 +228,9 @@ class BuoyancyController : public btActionInterface {
   std::vector<SoftBodyBuoyancy> softBodies_;
   ControllerStatistics statistics_;
   std::unique_ptr<BodyThreads> threads_;
+  std::shared_ptr<ComputeBackend> backend_;
+  std::vector<BackendHydrostaticsQuery> queries_;  ///< this step's batch (planBody)
+  std::vector<HydrostaticsResult> answers_;        ///< ... and its answers (askBackend)
   double time_ = 0.0;
 };
 
