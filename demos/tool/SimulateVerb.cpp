@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--threads N] [--backend cpu|auto] [--json]`:
+// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--threads N] [--backend cpu|gpu|auto] [--json]`:
 // runs a scene headless in Bullet with the BuoyancyController and writes one CSV row per body
 // every N steps.
 
@@ -18,6 +18,7 @@
 #include "Verbs.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/SoftBodyMotion.hpp"
+#include "hydrotex/gpu/MakeBackend.hpp"
 
 namespace hydrotex::tool {
 namespace {
@@ -99,7 +100,8 @@ int runSimulate(const SimulateOptions& options) {
   Expected<bullet::Scene> scene = bullet::loadScene(options.scenePath);
   if (!scene) return reportError(scene.error());
   if (threads) scene->threads = *threads;
-  Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene);
+  if (!options.backend.empty()) scene->backend = options.backend;
+  Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene, gpu::makeControllerBackend);
   if (!created) return reportError(created.error());
   bullet::SceneWorld& sceneWorld = **created;
 
@@ -148,13 +150,15 @@ int runSimulate(const SimulateOptions& options) {
   result["wall_seconds"] = seconds;
   result["ms_per_step"] = steps > 0 ? 1000.0 * seconds / double(steps) : 0.0;
   result["threads"] = sceneWorld.controller().threads();
-  result["backend"] = "cpu";
+  const ComputeBackend& backend = sceneWorld.controller().backend();
+  result["backend"] = backend.name();
+  result["renderer"] = backend.renderer();
   nlohmann::json bodies = nlohmann::json::array();
   std::ostringstream text;
   text << "simulated " << sceneWorld.time() << " s in " << steps << " steps (" << std::setprecision(3)
        << (steps > 0 ? 1000.0 * seconds / double(steps) : 0.0) << " ms/step, "
        << sceneWorld.controller().threads() << " thread" << (sceneWorld.controller().threads() == 1 ? "" : "s")
-       << ", cpu)\n";
+       << ", " << backend.name() << " backend: " << backend.renderer() << ")\n";
   for (std::size_t i = 0; i < sceneWorld.bodies().size(); ++i) {
     const btRigidBody* body = sceneWorld.bodies()[i];
     const Eigen::Vector3d p(body->getCenterOfMassPosition().x(), body->getCenterOfMassPosition().y(),
@@ -206,7 +210,7 @@ void addSimulateVerb(CLI::App& app, VerbAction& action) {
                    "Threads for the bodies' loads (0: all cores; default: the scene's `threads`, else 0); "
                    "results are bit-identical for every count");
   verb->add_option("--backend", options->backend,
-                   "Backend of the controller: cpu or auto (the CPU; the GL backend is not yet reachable from the controller)");
+                   "Backend of the controller's texture hydrostatics: cpu, gpu (GL compute) or auto (GL when a GPU opens through EGL, else cpu); default: the scene's `backend`, else auto");
   verb->add_flag("--json", options->json, "Print the summary as one JSON object");
   verb->callback([options, &action] { action = [options] { return runSimulate(*options); }; });
 }

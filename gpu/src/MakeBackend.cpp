@@ -10,10 +10,35 @@
 
 namespace hydrotex::gpu {
 
-Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name) {
-  if (name == "cpu") return makeCpuBackend();
+bool isSoftwareRenderer(std::string_view renderer) {
+  for (std::string_view software : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
+    if (renderer.find(software) != std::string_view::npos) return true;
+  return false;
+}
+
+Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name, ParallelFor parallelFor) {
+  if (name == "cpu") return makeCpuBackend(std::move(parallelFor));
   if (name == "gpu" || name == "gl") return makeGlBackend();
-  return Error{"backend '" + std::string(name) + "' is unknown (cpu or gpu)"};
+  if (name == "auto") {
+    Expected<std::unique_ptr<ComputeBackend>> gl = makeGlBackend();
+    if (gl) return gl;
+    return makeCpuBackend(std::move(parallelFor));
+  }
+  return Error{"backend '" + std::string(name) + "' is unknown (cpu, gpu or auto)"};
+}
+
+Expected<std::shared_ptr<ComputeBackend>> makeControllerBackend(std::string_view name) {
+  if (name == "cpu") return std::shared_ptr<ComputeBackend>();
+  if (name != "gpu" && name != "gl" && name != "auto") return Error{"backend '" + std::string(name) + "' is unknown (cpu, gpu or auto)"};
+  Expected<std::unique_ptr<ComputeBackend>> gl = makeGlBackend();
+  if (!gl) {
+    if (name == "auto") return std::shared_ptr<ComputeBackend>();
+    return gl.error();
+  }
+  // "auto" wants a GPU: a software rasterizer (Mesa's llvmpipe, softpipe) runs the same passes
+  // on the CPU, slower than the CPU backend, so it is passed over (asked for by name, it is used).
+  if (name == "auto" && isSoftwareRenderer((*gl)->renderer())) return std::shared_ptr<ComputeBackend>();
+  return std::shared_ptr<ComputeBackend>(std::move(gl).value());
 }
 
 }  // namespace hydrotex::gpu

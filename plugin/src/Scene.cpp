@@ -525,11 +525,8 @@ Status Scene::validate() const {
 }
 
 Status checkControllerBackend(const std::string& name) {
-  if (name == "cpu" || name == "auto") return Ok{};
-  if (name == "gpu") {
-    return Error{"\"gpu\": the GL backend is not yet reachable from the buoyancy controller; use \"cpu\" or \"auto\" (the CPU)"};
-  }
-  return Error{"\"" + name + "\": expected \"cpu\" or \"auto\""};
+  if (name == "cpu" || name == "gpu" || name == "auto") return Ok{};
+  return Error{"\"" + name + "\": expected \"cpu\", \"gpu\" or \"auto\""};
 }
 
 Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName) {
@@ -550,9 +547,8 @@ Expected<Scene> parseScene(const std::string& text, const std::string& baseDirec
     }
     scene.threads = threads->get<int>();
   }
-  std::string backend = "auto";
-  HYDROTEX_TRY(reader.string("backend", backend));
-  if (Status s = checkControllerBackend(backend); !s) return reader.error("backend", s.error().message);
+  HYDROTEX_TRY(reader.string("backend", scene.backend));
+  if (Status s = checkControllerBackend(scene.backend); !s) return reader.error("backend", s.error().message);
   if (const Json* fluid = reader.find("fluid")) {
     if (!fluid->is_object()) return reader.error("fluid", "expected an object");
     ObjectReader fluidReader(*fluid, "fluid", sourceName);
@@ -610,7 +606,7 @@ std::shared_ptr<const LiquidSurface> makeSceneSurface(const Scene& scene) {
   }
 }
 
-Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
+Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene, const SceneBackendFactory& makeBackend) {
   if (Status s = scene.validate(); !s) return s.error();
   std::unique_ptr<SceneWorld> self(new SceneWorld());
   self->scene_ = scene;
@@ -649,6 +645,15 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene) {
   if (Status s = liquid.validate(); !s) return Error{scene.sourceName + ": fluid: " + s.error().message};
   ControllerSettings controllerSettings;
   controllerSettings.threads = scene.threads;
+  if (Status s = checkControllerBackend(scene.backend); !s) return Error{scene.sourceName + ": backend: " + s.error().message};
+  if (makeBackend) {
+    Expected<std::shared_ptr<ComputeBackend>> backend = makeBackend(scene.backend);
+    if (!backend) return Error{scene.sourceName + ": backend: " + backend.error().message};
+    controllerSettings.backend = *backend;
+  } else if (scene.backend == "gpu") {
+    return Error{scene.sourceName + ": backend: \"gpu\": this program was given no GL backend (SceneWorld::create's "
+                 "makeBackend; the hydrotex tool and demos pass hydrotex::gpu::makeBackend)"};
+  }
   self->controller_ = std::make_unique<BuoyancyController>(*self->world_, liquid, controllerSettings);
   self->world_->addAction(self->controller_.get());
 

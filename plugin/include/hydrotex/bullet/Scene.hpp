@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -106,6 +107,8 @@ struct Scene {
   std::vector<SceneBody> softBodies;
   /// `threads`: ControllerSettings::threads (0: all cores; >= 1: at most that many).
   int threads = 0;
+  /// `backend`: "cpu", "gpu" or "auto" (checkControllerBackend), made by SceneWorld::create's factory.
+  std::string backend = "auto";
   /// Number of steps the duration takes (rounded to the nearest whole step).
   long long stepCount() const;
   /// One line naming the first impossible value (non-positive dt, NaN, no bodies, ...), or Ok.
@@ -117,10 +120,14 @@ struct Scene {
 Expected<Scene> parseScene(const std::string& text, const std::string& baseDirectory, const std::string& sourceName);
 
 /// Checks the name of the backend that runs a scene's controller (scene key `backend`, `hydrotex
-/// simulate --backend`): "cpu", or "auto" (the CPU for now). "gpu" is refused: the GL backend
-/// (hydrotex::gpu) computes hydrostatics and wetting for the tool's verbs, but the
-/// BuoyancyController cannot reach it yet. The message names the value.
+/// simulate --backend`): "cpu", "gpu" (the GL compute backend) or "auto" (the GL one when an EGL
+/// device opens, else the CPU). The message names the value.
 Status checkControllerBackend(const std::string& name);
+
+/// Makes the controller's backend from its name (checkControllerBackend's), for SceneWorld::create:
+/// the tool and the demos pass hydrotex::gpu::makeBackend; `plugin/` links no GL. A null backend
+/// means the controller's own CPU one.
+using SceneBackendFactory = std::function<Expected<std::shared_ptr<ComputeBackend>>(const std::string& name)>;
 
 /// Reads and parses the scene file at `path` (mesh paths relative to the file).
 Expected<Scene> loadScene(const std::string& path);
@@ -133,8 +140,10 @@ std::shared_ptr<const LiquidSurface> makeSceneSurface(const Scene& scene);
 /// by its margin; bodies given by `shape`: that Bullet primitive) and the controller.
 class SceneWorld {
  public:
-  /// Builds the world; errors from the scene, mesh files and body registration.
-  static Expected<std::unique_ptr<SceneWorld>> create(const Scene& scene);
+  /// Builds the world; errors from the scene, mesh files, the backend and body registration.
+  /// `makeBackend` makes the scene's `backend`; without one, "cpu" and "auto" run on the CPU and
+  /// "gpu" is refused (this program has no GL backend to give).
+  static Expected<std::unique_ptr<SceneWorld>> create(const Scene& scene, const SceneBackendFactory& makeBackend = {});
   ~SceneWorld();
   SceneWorld(const SceneWorld&) = delete;
   SceneWorld& operator=(const SceneWorld&) = delete;
