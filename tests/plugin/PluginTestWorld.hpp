@@ -18,13 +18,13 @@ namespace hydrotex::bullet::testing {
 class TestWorld {
  public:
   explicit TestWorld(std::shared_ptr<const LiquidSurface> surface = std::make_shared<FlatSurface>(0.0, 1000.0),
-                     double viscosity = 1.0e-3)
+                     double viscosity = 1.0e-3, ControllerSettings settings = {})
       : dispatcher_(&configuration_), world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
     world_.setGravity(btVector3(0, btScalar(-9.81), 0));
     LiquidSettings liquid;
     liquid.surface = std::move(surface);
     liquid.viscosity = viscosity;
-    controller_ = std::make_unique<BuoyancyController>(world_, liquid);
+    controller_ = std::make_unique<BuoyancyController>(world_, liquid, std::move(settings));
     world_.addAction(controller_.get());
   }
   ~TestWorld() {
