@@ -3,6 +3,11 @@
 // world stepped at 60 Hz; the split between Bullet's own work and the BuoyancyController, on 1
 // thread and on 2 (ControllerSettings::threads), and the whole step's speed-up. Prints a table
 // and writes CSV (argv[1], default bench_controller.csv). Medians of several runs.
+//
+// With --backend cpu|gpu (and --bodies N, --threads T, --runs R, --steps S, --drag 0|1,
+// --bandwidth-gbs B, --csv FILE): one table for that backend of the controller (issue 18: 1,000
+// bodies on the CPU and on the GL backend), with the bandwidth floor of the texels the backend
+// reads per step beside it (GL texel layout, at B GB/s).
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +19,16 @@
 
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/BodyGeometry.hpp"
+#ifdef HYDROTEX_WITH_GPU
+#include "hydrotex/gpu/MakeBackend.hpp"
+#include "hydrotex/gpu/ShaderLayouts.hpp"
+using gpuTexelRecord = hydrotex::gpu::layout::HydroTexel;
+#else
+struct gpuTexelRecord {
+  float values[12];  // the GL HydroTexel's size, for the floor's arithmetic
+};
+#endif
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
@@ -41,29 +56,37 @@ struct Run {
   double totalMs, controllerMs;
 };
 
-Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int threads) {
+Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int threads, const std::string& backend = "cpu",
+           std::string* renderer = nullptr) {
   Scene scene;
   scene.sourceName = "bench";
   scene.dt = 1.0 / 60.0;
   scene.threads = threads;
+  scene.backend = backend;
   auto box = std::make_shared<const Mesh>(primitives::box({1.0, 0.6, 0.8}));
   for (int i = 0; i < bodies; ++i) {
     SceneBody body;
     body.name = "box" + std::to_string(i);
     body.mesh = box;
     body.density = 400.0 + 4.0 * i;
-    body.position = Eigen::Vector3d(2.0 * (i % 10), 0.5 + 0.05 * (i % 7), 2.0 * (i / 10));
+    const int columns = bodies > 100 ? 32 : 10;
+    body.position = Eigen::Vector3d(2.0 * (i % columns), 0.5 + 0.05 * (i % 7), 2.0 * (i / columns));
     body.rotationDegrees = Eigen::Vector3d(3.0 * (i % 5), 10.0 * i, 0.0);
     body.resolution = resolution;
     body.effects = effects;
     scene.bodies.push_back(body);
   }
+#ifdef HYDROTEX_WITH_GPU
+  auto created = SceneWorld::create(scene, gpu::makeControllerBackend);
+#else
   auto created = SceneWorld::create(scene);
+#endif
   if (!created) {
     std::fprintf(stderr, "bench_controller: %s\n", created.error().message.c_str());
     std::exit(1);
   }
   SceneWorld& world = **created;
+  if (renderer != nullptr) *renderer = world.controller().backend().name() + ": " + world.controller().backend().renderer();
   // Time the controller from inside the world: swap the action for a timed wrapper.
   TimedAction timed(world.controller());
   world.world().removeAction(&world.controller());
@@ -85,7 +108,61 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
+/// The value after `flag` in argv, or `fallback`.
+std::string option(int argc, char** argv, const std::string& flag, const std::string& fallback) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (argv[i] == flag) return argv[i + 1];
+  return fallback;
+}
+
+/// One backend's table: --backend NAME --bodies N ...
+int runBackend(int argc, char** argv) {
+  const std::string backend = option(argc, argv, "--backend", "cpu");
+  const int bodies = std::stoi(option(argc, argv, "--bodies", "1000"));
+  const int threads = std::stoi(option(argc, argv, "--threads", "0"));
+  const int runs = std::stoi(option(argc, argv, "--runs", "3"));
+  const int steps = std::stoi(option(argc, argv, "--steps", "60"));
+  const bool drag = option(argc, argv, "--drag", "1") == "1";
+  const double bandwidth = std::stod(option(argc, argv, "--bandwidth-gbs", "4800"));  // H200's HBM3e
+  const std::string csvPath = option(argc, argv, "--csv", "bench_controller_backend.csv");
+  const int resolution = 256;
+  const EffectSet effects = drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy};
+  std::vector<double> totals, controllers;
+  std::string renderer;
+  for (int r = 0; r < runs; ++r) {
+    const Run run = runOnce(effects, resolution, bodies, steps, threads, backend, &renderer);
+    totals.push_back(run.totalMs);
+    controllers.push_back(run.controllerMs);
+  }
+  // The floor: every covered texel of every body read once per step (the GL backend's HydroTexel
+  // record), at the stated memory bandwidth.
+  BodyGeometrySettings geometrySettings;
+  geometrySettings.bake.width = geometrySettings.bake.height = resolution;
+  Expected<BodyGeometry> geometry = prepareBodyGeometry(primitives::box({1.0, 0.6, 0.8}), geometrySettings);
+  const double texelsPerBody = geometry ? double(geometry->textures.size()) : 0.0;
+  const double bytes = double(bodies) * texelsPerBody * double(sizeof(gpuTexelRecord));
+  const double floorMs = 1000.0 * bytes / (bandwidth * 1e9);
+  std::printf("backend %s (%s), %d bodies at %d^2, %s, %d threads requested, %d runs of %d steps\n", backend.c_str(),
+              renderer.c_str(), bodies, resolution, drag ? "buoyancy+drag" : "buoyancy", threads, runs, steps);
+  std::printf("%-12s %12s %12s %15s %18s %10s\n", "backend", "total ms", "bullet ms", "controller ms", "bandwidth floor ms",
+              "goal ms");
+  std::vector<double> bullet;
+  for (int r = 0; r < runs; ++r) bullet.push_back(totals[std::size_t(r)] - controllers[std::size_t(r)]);
+  std::printf("%-12s %12.3f %12.3f %15.3f %18.4f %10.1f\n", backend.c_str(), median(totals), median(bullet),
+              median(controllers), floorMs, 1.0);
+  std::ofstream csv(csvPath);
+  csv << "backend,renderer,bodies,resolution,effects,threads,runs,total_ms_per_step,bullet_ms_per_step,controller_ms_per_step,"
+         "bandwidth_floor_ms,goal_ms\n";
+  csv << backend << ",\"" << renderer << "\"," << bodies << ',' << resolution << ',' << (drag ? "buoyancy+drag" : "buoyancy")
+      << ',' << threads << ',' << runs << ',' << median(totals) << ',' << median(bullet) << ',' << median(controllers)
+      << ',' << floorMs << ",1\n";
+  std::printf("covered texels per body %.0f, %.0f bytes a step through the backend\n", texelsPerBody, bytes);
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--backend") return runBackend(argc, argv);
   const std::string csvPath = argc > 1 ? argv[1] : "bench_controller.csv";
   struct Case {
     const char* name;
