@@ -25,6 +25,7 @@
 #include "hydrotex/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/gpu/EglContext.hpp"
+#include "hydrotex/gpu/MakeBackend.hpp"
 
 namespace hydrotex::render {
 namespace {
@@ -146,8 +147,9 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
     return 1;
   }
   if (options.threads) scene->threads = *options.threads;
+  if (options.backend) scene->backend = *options.backend;
   const auto wallStart = std::chrono::steady_clock::now();
-  Expected<std::unique_ptr<bullet::SceneWorld>> world = bullet::SceneWorld::create(*scene);
+  Expected<std::unique_ptr<bullet::SceneWorld>> world = bullet::SceneWorld::create(*scene, gpu::makeControllerBackend);
   if (!world) {
     std::fprintf(stderr, "hydrotex_demo: %s\n", world.error().message.c_str());
     return 1;
@@ -174,6 +176,8 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   }
   std::printf("  renderer: %s (%s), %dx%d\n", (*context)->renderer().c_str(), (*context)->platform().c_str(), rendererSettings.width,
               rendererSettings.height);
+  std::printf("  physics: %s backend (%s), %d threads\n", sceneWorld.controller().backend().name().c_str(),
+              sceneWorld.controller().backend().renderer().c_str(), sceneWorld.controller().threads());
 
   // Bodies: meshes and looks.
   std::vector<int> rendererIds;
@@ -350,6 +354,13 @@ int runDemo(const DemoDescription& demo, const DemoOptions& options) {
   for (int frame = 0; frame < frameCount; ++frame) {
     if (frame > 0) {
       for (long long s = 0; s < stepsPerFrame; ++s) sceneWorld.step();
+      // A GL backend makes its own context current for its passes: the renderer's again.
+      if (sceneWorld.controller().backend().name() != "cpu") {
+        if (const Status current = (*context)->makeCurrent(); !current) {
+          std::fprintf(stderr, "hydrotex_demo: %s\n", current.error().message.c_str());
+          return 1;
+        }
+      }
       // Scenery is wetted once per frame: the wetting step is stable at any time step, and the
       // sea moves little within one frame.
       for (SceneryInstance& item : scenery)

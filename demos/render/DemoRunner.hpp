@@ -26,6 +26,7 @@ struct DemoOptions {
   std::optional<int> width;         ///< pixels, overrides the demo's size
   std::optional<int> height;        ///< pixels
   std::optional<int> threads;       ///< overrides the scene's `threads` (ControllerSettings::threads, 0: all cores)
+  std::optional<std::string> backend; ///< overrides the scene's `backend` ("cpu", "gpu" or "auto")
   /// Called with each frame once it is written (row 0 at the top) and the simulated time (s), with
   /// no GL context current; returns false to stop the run early (e.g. its window was closed): the
   /// frames so far are kept and the video, contact sheet and figures are made from them. Empty: none.

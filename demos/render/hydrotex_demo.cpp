@@ -80,6 +80,9 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames to render (default: the scene's duration at the demo's fps)");
   app.add_option("--size", size, "picture size WxH (default: the demo's, 640x360)");
   app.add_option("--threads", threads, "threads for the bodies' loads (0: all cores; default: the scene's)");
+  std::optional<std::string> backend;
+  app.add_option("--backend", backend, "backend of the controller's texture hydrostatics: cpu, gpu or auto (default: the scene's)")
+      ->check(CLI::IsMember({"cpu", "gpu", "auto"}));
   app.add_flag("--no-video", noVideo, "skip the MP4");
   app.add_flag("--smoke", smoke, "CI check: 4 small frames, no video, fail on a blank picture");
 #ifdef HYDROTEX_DEMO_WITH_WINDOW
@@ -129,6 +132,7 @@ int main(int argc, char** argv) {
   options.outputDirectory = outDir.empty() ? "demo-output/" + demo->name : outDir;
   options.frames = frames;
   options.threads = threads;
+  options.backend = backend;
   options.smoke = smoke;
   options.video = !noVideo;
   if (!size.empty()) {
