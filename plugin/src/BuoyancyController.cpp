@@ -18,12 +18,10 @@
 #include "hydrotex/ImageMap.hpp"
 #include "hydrotex/MeshIO.hpp"
 #include "hydrotex/PolyhedralHydrostatics.hpp"
+#include "hydrotex/RigidBodyStep.hpp"
 
 namespace hydrotex::bullet {
 namespace {
-
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 /// Principal frame of an inertia tensor: rotation whose columns are the principal axes (right
 /// handed) and the principal moments.
@@ -70,44 +68,6 @@ void applyBodyFrame(btDynamicsWorld& world, FloatingBody& floating, const btTran
   }
   floating.report.meshToBody = meshToBody;
   if (body->getBroadphaseHandle() != nullptr) world.updateSingleAabb(body);
-}
-
-/// The part of a stiffness taken implicitly, in the metric of the generalized mass M (so that
-/// heave in N/m and roll in N m/rad compare fairly): with M = L L^T, the modes of L^-1 K L^-T.
-/// Stable modes (omega^2 > 0) are kept. Capsizing modes (omega^2 < 0) stay explicit, being
-/// physical growth, unless they grow faster than the step resolves (|omega^2| dt^2 > 1): such a
-/// mode is taken with |omega^2|, so one step turns the body at most about as far as the
-/// linearized torque stays meaningful (backward Euler's quasi-static answer) instead of an
-/// explicit kick of dt tau / I, which for a tiny inertia (a needle's roll) throws it far past
-/// where that torque holds and pumps energy in. `largestRate`: omega^2 (1/s^2) of the stiffest
-/// implicit mode.
-Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen::Matrix3d& generalizedMass, double dt,
-                                  double& largestRate) {
-  const Eigen::LLT<Eigen::Matrix3d> cholesky(generalizedMass);
-  const Eigen::Matrix3d lower = cholesky.matrixL();
-  const Eigen::Matrix3d symmetric = 0.5 * (stiffness + stiffness.transpose());
-  const Eigen::Matrix3d left = lower.triangularView<Eigen::Lower>().solve(symmetric);
-  const Eigen::Matrix3d normalized = lower.triangularView<Eigen::Lower>().solve(left.transpose());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(0.5 * (normalized + normalized.transpose()));
-  Eigen::Vector3d rates = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    const double rate = solver.eigenvalues()[i];
-    if (rate > 0.0 || rate * dt * dt < -1.0) rates[i] = std::abs(rate);
-  }
-  largestRate = rates.maxCoeff();
-  const Eigen::Matrix3d modal = solver.eigenvectors() * rates.asDiagonal() * solver.eigenvectors().transpose();
-  return lower * modal * lower.transpose();
-}
-
-/// The inertia that torques about the world x and z axes meet while the spin about y stays free:
-/// the inverse of the (x, z) block of the inverse inertia (a Schur complement). For a needle
-/// lying in the water this is its tiny inertia about its own axis, where the diagonal entries
-/// I_xx, I_zz see the large transverse one whenever the needle is not exactly along x or z.
-Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
-  const Eigen::Matrix3d inverse = inertiaWorld.inverse();
-  Eigen::Matrix2d block;
-  block << inverse(0, 0), inverse(0, 2), inverse(2, 0), inverse(2, 2);
-  return block.inverse();
 }
 
 /// Adds one body's counters of a step to the controller's.
@@ -669,7 +629,6 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   const LiquidSurface& surface = *liquid_.surface;
   const FloatingBodySettings& settings = floating.settings;
   const EffectSet effects = settings.effects;
-  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
 
   // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
   if (floating.wetting) wet(floating, toPose(step.meshWorld), step.gravity, dt);
@@ -729,124 +688,54 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
     }
   }
 
-  const Eigen::Vector3d v = toEigen(step.linearVelocity);
-  const Eigen::Vector3d w = toEigen(step.angularVelocity);
-  const Eigen::Matrix3d rotation = meshPose.rotation;
+  RigidBodyMotion motion;
+  motion.meshPose = meshPose;
+  motion.center = center;
+  motion.linearVelocity = toEigen(step.linearVelocity);
+  motion.angularVelocity = toEigen(step.angularVelocity);
+  motion.mass = mass;
   // In double from the mesh-axes inertia: Bullet's float inverse inertia, inverted, loses the
   // small moment of a needle (inverse moments 1e10 and 1e4 kg^-1 m^-2 in one float matrix).
-  const Eigen::Matrix3d inertiaWorld = rotation * report.massProperties.inertia * rotation.transpose();
+  motion.inertiaWorld = meshPose.rotation * report.massProperties.inertia * meshPose.rotation.transpose();
+  const Eigen::Vector3d& v = motion.linearVelocity;
+  const Eigen::Vector3d& w = motion.angularVelocity;
 
-  // Drag: a pass over the drag patches, only for bodies that list it.
-  Eigen::Vector3d dragForce = Eigen::Vector3d::Zero(), dragTorque = Eigen::Vector3d::Zero();
-  Eigen::Vector3d liquidVelocityAtCenter = toEigen(liquid_.current);
-  double dragDamping = 0.0;  // lambda, dimensionless
+  // Drag: a pass over the drag patches, only for bodies that list it (RigidBodyStep.hpp).
+  DragLoads drag;
+  drag.liquidVelocityAtCenter = toEigen(liquid_.current);
   if (effects.has(Effect::Drag)) {
     ++counters.dragPasses;
-    liquidVelocityAtCenter += surface.velocity(center, time_);
-    double wettedArea = 0.0;
-    // One skin friction coefficient per body and step, from the body's Reynolds number (the
-    // ITTC line is a whole-body correlation anyway); a still, flat, uniform liquid needs no
-    // per-patch surface, velocity or density calls.
-    const double density = surface.density();
-    const Eigen::Vector3d current = toEigen(liquid_.current);
-    double friction = 0.0;
-    if (settings.drag.skinFrictionScale > 0.0 && liquid_.viscosity > 0.0) {
-      const double reynolds = density * (v - liquidVelocityAtCenter).norm() * floating.referenceLength / liquid_.viscosity;
-      friction = settings.drag.skinFrictionScale * skinFrictionCoefficient(reynolds);
-    }
-    const std::optional<double> flatLevel = surface.flatHeight();
-    const bool uniformLiquid = surface.hasFreeSurface();
-    for (const DragPatch& patch : floating.dragPatches) {
-      const Eigen::Vector3d p = rotation * patch.position.cast<double>() + meshPose.translation;
-      double wetFraction = 1.0;
-      if (surface.hasFreeSurface()) {
-        const double level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), time_);
-        const double depth = level - p.y();
-        const double radius = std::max(double(patch.radius), 1e-9);
-        // The patch is partly under water when the surface crosses its bounding sphere: a linear
-        // ramp over the sphere's height keeps the force continuous as the waterline moves.
-        wetFraction = std::clamp(0.5 + 0.5 * depth / radius, 0.0, 1.0);
-        if (wetFraction <= 0.0) continue;
-      }
-      ++counters.dragPatchesVisited;
-      const Eigen::Vector3d r = p - center;
-      const Eigen::Vector3d liquidVelocity = still ? current : Eigen::Vector3d(surface.velocity(p, time_) + current);
-      const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
-      const Eigen::Vector3d force =
-          wetFraction * texelDragForceWithFriction(rotation * patch.areaVector.cast<double>(), double(patch.area),
-                                                   relative, uniformLiquid ? density : surface.densityAt(p),
-                                                   friction, settings.drag);
-      dragForce += force;
-      dragTorque += r.cross(force);
-      wettedArea += wetFraction * double(patch.area);
-    }
-    if (floating.totalDragPatchArea > 0.0 && settings.rotationalDamping > 0.0) {
-      const double wetted = wettedArea / floating.totalDragPatchArea;
-      dragTorque -= settings.rotationalDamping * wetted * (inertiaWorld * w);
-    }
-    // Drag is taken implicitly too (linearized backward Euler, F_d(u') = F_d(u) - D (u' - u)), with
-    // D = lambda M / dt the secant damping along the relative motion: lambda = -(u.J)/(u.M.u),
-    // J = dt (F_d, T_d). It can then slow a body but never reverse it, at any time step, and at a
-    // steady state (terminal velocity) it changes nothing.
-    const Eigen::Vector3d relativeLinear = v - liquidVelocityAtCenter;
-    const double removed = -dt * (relativeLinear.dot(dragForce) + w.dot(dragTorque));
-    const double kinetic = mass * relativeLinear.squaredNorm() + w.dot(inertiaWorld * w);
-    if (removed > 0.0 && kinetic > 0.0) dragDamping = removed / kinetic;
-    report.dragForce = toBullet(dragForce);
-    report.dragTorque = toBullet(dragTorque);
+    DragBody dragBody;
+    dragBody.patches = floating.dragPatches;
+    dragBody.totalPatchArea = floating.totalDragPatchArea;
+    dragBody.referenceLength = floating.referenceLength;
+    dragBody.coefficients = settings.drag;
+    dragBody.rotationalDamping = settings.rotationalDamping;
+    drag = rigidBodyDrag(dragBody, motion, DragLiquid{&surface, toEigen(liquid_.current), liquid_.viscosity, time_}, dt);
+    counters.dragPatchesVisited += drag.patchesVisited;
+    report.dragForce = toBullet(drag.force);
+    report.dragTorque = toBullet(drag.torque);
   }
 
   // Added mass: the liquid accelerated with the body, from the submerged volume.
-  double addedMass = 0.0;
+  ImplicitUpdateInput update;
   if (effects.has(Effect::AddedMass)) {
     ++counters.addedMassUpdates;
-    addedMass = settings.addedMassCoefficient * report.hydrostatics.fluidDensity * report.hydrostatics.submergedVolume;
-    report.addedMass = addedMass;
+    update.addedMass = settings.addedMassCoefficient * report.hydrostatics.fluidDensity * report.hydrostatics.submergedVolume;
+    report.addedMass = update.addedMass;
   }
-
-  // Velocity update with the hydrostatic stiffness taken implicitly. Generalized velocity
-  // u = (v, w) at the centre of mass; the next step integrates positions with the u' set here
-  // (gravity is the controller's, see addBody). Linearizing F(x + dt u') = F(x) - K dt u' gives
-  //   (M + theta dt^2 K) u' = M u + dt (m g + F_b + F_d) ,
-  // K acting on (heave v_y, roll w_x, pitch w_z) (Hydrostatics.hpp; the reference point lies
-  // vertically above the centre of mass, so these rates are the body's own). theta = min(1, a),
-  // a = (omega dt)^2 of the stiffest mode: almost symplectic (energy kept) for ordinary bodies,
-  // fully implicit (dissipative, unconditionally stable) for light ones; every theta > 0 has
-  // determinant 1/(1 + theta a) < 1 per step, so the hydrostatic oscillation never gains energy.
-  // The rates are those of the modes, not of the diagonal entries: a needle lying in the water
-  // has I_xx ~ its transverse inertia unless it points exactly along x, yet rolls about its own
-  // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
-  // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
-  const double effectiveMass = mass + addedMass;
-  Matrix6d system = Matrix6d::Zero();
-  system.topLeftCorner<3, 3>() = effectiveMass * Eigen::Matrix3d::Identity();
-  system.bottomRightCorner<3, 3>() = inertiaWorld;
-  Vector6d rhs;
-  rhs.head<3>() = effectiveMass * v + dt * (mass * gravity + buoyancyForce + dragForce);
-  rhs.tail<3>() = inertiaWorld * w + dt * (buoyancyTorque + dragTorque);
-  if (dragDamping > 0.0) {
-    rhs.head<3>() += dragDamping * mass * v;
-    rhs.tail<3>() += dragDamping * (inertiaWorld * w);
-    system.topLeftCorner<3, 3>() += dragDamping * mass * Eigen::Matrix3d::Identity();
-    system.bottomRightCorner<3, 3>() += dragDamping * inertiaWorld;
-  }
-  const bool stiff = !stiffness.isZero(0.0) && stiffness.allFinite();
-  if (stiff) {
-    double rate = 0.0;
-    Eigen::Matrix3d generalizedMass = Eigen::Matrix3d::Zero();
-    generalizedMass(0, 0) = effectiveMass;
-    generalizedMass.bottomRightCorner<2, 2>() = rollPitchInertia(inertiaWorld);
-    const Eigen::Matrix3d implicitPart = implicitStiffness(stiffness, generalizedMass, dt, rate);
-    const double theta = std::min(1.0, rate * dt * dt);
-    static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * implicitPart(i, j);
-  }
-  const Vector6d next = system.ldlt().solve(rhs);
-  if (!next.allFinite()) {
+  update.gravity = gravity;
+  update.force = buoyancyForce + drag.force;
+  update.torque = buoyancyTorque + drag.torque;
+  update.stiffness = stiffness;
+  update.dragDamping = drag.damping;
+  const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, update, dt);
+  if (!next) {
     ++counters.failedQueries;
     return;
   }
+  const Eigen::Vector3d liquidVelocityAtCenter = drag.liquidVelocityAtCenter;
+  const Eigen::Vector3d dragForce = drag.force, dragTorque = drag.torque;
 
   // Rest afloat: balanced and slow. Until then the body is kept awake, so that Bullet's sleeping
   // thresholds (0.8 m/s for 2 s) cannot freeze a slow oscillation.
@@ -866,8 +755,8 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   } else if (!report.atRest) {
     step.holdAwake = true;
   }
-  step.nextLinear = toBullet(Eigen::Vector3d(next.head<3>()));
-  step.nextAngular = toBullet(Eigen::Vector3d(next.tail<3>()));
+  step.nextLinear = toBullet(next->linear);
+  step.nextAngular = toBullet(next->angular);
   step.setLinear = step.setAngular = true;
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/RigidBodyStep.hpp"
 #include "hydrotex/TexelDrag.hpp"
 
 namespace hydrotex::bullet {
@@ -212,16 +213,13 @@ void SoftBodyBuoyancy::applyDrag(const LiquidSurface& surface, double time, doub
 
   // One skin friction coefficient per body and step from its Reynolds number, as for rigid bodies
   // (the ITTC line is a whole-body correlation); the reference length is the nodes' largest extent.
-  double friction = 0.0;
-  if (settings_.drag.skinFrictionScale > 0.0 && liquid.viscosity > 0.0) {
-    Eigen::Vector3d lower = mesh_.positions.front(), upper = lower;
-    for (const Eigen::Vector3d& p : mesh_.positions) {
-      lower = lower.cwiseMin(p);
-      upper = upper.cwiseMax(p);
-    }
-    const double reynolds = density * meanVelocity.norm() * (upper - lower).maxCoeff() / liquid.viscosity;
-    friction = settings_.drag.skinFrictionScale * skinFrictionCoefficient(reynolds);
+  Eigen::Vector3d lower = mesh_.positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : mesh_.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
   }
+  const double friction =
+      bodySkinFriction(density, meanVelocity.norm(), (upper - lower).maxCoeff(), liquid.viscosity, settings_.drag);
 
   // Texel by texel: the law on the texel's relative velocity (its pieces' barycentric node
   // velocities, weighted by area), times its wet fraction; the force back to the nodes as the
