@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: Zlib
+// The phased step's laws (RigidBodyStep.hpp) against closed forms: the implicit velocity update
+// with and without stiffness, its energy behaviour, the drag sum over patches with the waterline
+// rule, the implicit drag that slows but never reverses, and the body's skin friction.
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/RigidBodyStep.hpp"
+
+using namespace hydrotex;
+
+namespace {
+
+RigidBodyMotion cube(double mass) {
+  RigidBodyMotion motion;
+  motion.mass = mass;
+  motion.inertiaWorld = (mass / 6.0) * Eigen::Matrix3d::Identity();  // a unit cube
+  return motion;
+}
+
+}  // namespace
+
+TEST_CASE("without stiffness or drag the update is explicit Newton", "[step]") {
+  RigidBodyMotion motion = cube(500.0);
+  motion.linearVelocity = {0.3, -1.0, 0.2};
+  motion.angularVelocity = {0.1, 0.0, -0.4};
+  ImplicitUpdateInput input;
+  input.gravity = {0, -9.81, 0};
+  input.force = {10.0, 4000.0, -5.0};
+  input.torque = {1.0, 2.0, 3.0};
+  const double dt = 1.0 / 60.0;
+  const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, dt);
+  REQUIRE(next);
+  // v' = v + dt (g + F/m), w' = w + dt I^-1 tau: double rounding only.
+  const Eigen::Vector3d v = motion.linearVelocity + dt * (input.gravity + input.force / motion.mass);
+  const Eigen::Vector3d w = motion.angularVelocity + dt * motion.inertiaWorld.inverse() * input.torque;
+  CHECK((next->linear - v).norm() < 1e-12);
+  CHECK((next->angular - w).norm() < 1e-12);
+  // Added mass slows the response of the translation only: (m + m_a) v' = (m + m_a) v + dt (m g + F).
+  input.addedMass = 250.0;
+  const Expected<RigidBodyVelocities> heavy = implicitVelocityUpdate(motion, input, dt);
+  REQUIRE(heavy);
+  const Eigen::Vector3d vAdded = motion.linearVelocity + dt * (motion.mass * input.gravity + input.force) / 750.0;
+  CHECK((heavy->linear - vAdded).norm() < 1e-12);
+  CHECK((heavy->angular - w).norm() < 1e-12);
+}
+
+TEST_CASE("a heave stiffness is taken with theta = min(1, omega^2 dt^2)", "[step]") {
+  const double mass = 500.0, k = 2.0e4, dt = 1.0 / 60.0;  // omega^2 = 40 1/s^2: theta = 40/3600
+  for (double scale : {1.0, 1000.0}) {                     // and a stiff one: theta = 1
+    CAPTURE(scale);
+    RigidBodyMotion motion = cube(mass);
+    motion.linearVelocity = {0, 0.5, 0};
+    ImplicitUpdateInput input;
+    input.gravity = {0, -9.81, 0};
+    input.force = {0, 3000.0, 0};
+    input.stiffness(0, 0) = k * scale;
+    const double theta = std::min(1.0, k * scale / mass * dt * dt);
+    const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, dt);
+    REQUIRE(next);
+    // (m + theta dt^2 k) v_y' = m v_y + dt (m g_y + F_y), the other components untouched.
+    const double expected = (mass * 0.5 + dt * (mass * -9.81 + 3000.0)) / (mass + theta * dt * dt * k * scale);
+    CHECK(next->linear.y() == Approx(expected).epsilon(1e-12));
+    CHECK(next->linear.x() == 0.0);
+    CHECK(next->angular.norm() == 0.0);
+  }
+}
+
+TEST_CASE("the implicit update never gains energy from the stiffness", "[step]") {
+  // A heave oscillator x'' = -(k/m) x stepped as the controller does (force -k x, stiffness k,
+  // then x += dt v'): at omega dt = 0.5 (ordinary) and 3 (a light body, theta = 1) the amplitude
+  // must not grow, cycle after cycle.
+  const double mass = 1.0, dt = 0.01;
+  for (double omegaDt : {0.5, 3.0}) {
+    CAPTURE(omegaDt);
+    const double k = mass * (omegaDt / dt) * (omegaDt / dt);
+    RigidBodyMotion motion = cube(mass);
+    double x = 0.1;
+    double first = 0.0, last = 0.0;
+    const int steps = 4000;
+    for (int i = 0; i < steps; ++i) {
+      ImplicitUpdateInput input;
+      input.force = {0, -k * x, 0};
+      input.stiffness(0, 0) = k;
+      const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, dt);
+      REQUIRE(next);
+      motion.linearVelocity = next->linear;
+      x += dt * next->linear.y();
+      // Energy with the stiffness: 1/2 m v^2 + 1/2 k x^2.
+      const double energy = 0.5 * mass * next->linear.squaredNorm() + 0.5 * k * x * x;
+      if (i < 100) first = std::max(first, energy);
+      if (i >= steps - 100) last = std::max(last, energy);
+    }
+    CHECK(last <= first * (1.0 + 1e-9));  // rounding aside, never more than at the start
+  }
+}
+
+TEST_CASE("a patch cut by the waterline is wet along a linear ramp", "[step][drag]") {
+  const double r = 0.2;
+  CHECK(patchWetFraction(-r, r) == 0.0);
+  CHECK(patchWetFraction(-2.0 * r, r) == 0.0);
+  CHECK(patchWetFraction(0.0, r) == 0.5);
+  CHECK(patchWetFraction(0.5 * r, r) == Approx(0.75).epsilon(1e-15));
+  CHECK(patchWetFraction(r, r) == 1.0);
+  CHECK(patchWetFraction(5.0 * r, r) == 1.0);
+  CHECK(patchWetFraction(1e-6, 0.0) == 1.0);  // a point patch: its ramp is 1e-9 m wide
+}
+
+TEST_CASE("the body's skin friction is ITTC-57 at its Reynolds number", "[step][drag]") {
+  DragCoefficients coefficients;
+  coefficients.skinFrictionScale = 0.8;
+  const double rho = 1000.0, u = 2.0, length = 3.0, mu = 1e-3;
+  CHECK(bodySkinFriction(rho, u, length, mu, coefficients) ==
+        Approx(0.8 * skinFrictionCoefficient(rho * u * length / mu)).epsilon(1e-15));
+  CHECK(bodySkinFriction(rho, u, length, 0.0, coefficients) == 0.0);  // no viscosity, no friction
+  coefficients.skinFrictionScale = 0.0;
+  CHECK(bodySkinFriction(rho, u, length, mu, coefficients) == 0.0);
+}
+
+TEST_CASE("rigid body drag sums the law over wet patches and slows without reversing", "[step][drag]") {
+  const FlatSurface water(0.0, 1000.0);
+  // Two patches of 0.5 m^2 facing +x and -x, one at the waterline (half wet), one deep.
+  std::vector<DragPatch> patches(2);
+  patches[0].position = Eigen::Vector3f(0.5f, 0.0f, 0.0f);
+  patches[0].areaVector = Eigen::Vector3f(0.5f, 0.0f, 0.0f);
+  patches[0].area = 0.5f;
+  patches[0].radius = 0.25f;
+  patches[1].position = Eigen::Vector3f(-0.5f, -1.0f, 0.0f);
+  patches[1].areaVector = Eigen::Vector3f(-0.5f, 0.0f, 0.0f);
+  patches[1].area = 0.5f;
+  patches[1].radius = 0.25f;
+  DragBody body;
+  body.patches = patches;
+  body.totalPatchArea = 1.0;
+  body.referenceLength = 1.0;
+  body.coefficients.skinFrictionScale = 0.0;  // pressure only: the closed form below
+  RigidBodyMotion motion = cube(400.0);
+  motion.linearVelocity = {1.5, 0.0, 0.0};  // advancing on patch 0, retreating on patch 1
+  const DragLiquid liquid{&water, Eigen::Vector3d::Zero(), 1e-3, 0.0};
+  const double dt = 1.0 / 60.0;
+  const DragLoads loads = rigidBodyDrag(body, motion, liquid, dt);
+  CHECK(loads.patchesVisited == 2);
+  // Patch 0 half wet (centre on the surface), patch 1 wholly: the per-element law times the fraction.
+  const Eigen::Vector3d expected =
+      0.5 * texelDragForceWithFriction({0.5, 0, 0}, 0.5, motion.linearVelocity, 1000.0, 0.0, body.coefficients) +
+      texelDragForceWithFriction({-0.5, 0, 0}, 0.5, motion.linearVelocity, 1000.0, 0.0, body.coefficients);
+  CHECK((loads.force - expected).norm() < 1e-9 * expected.norm());
+  CHECK(loads.wettedArea == Approx(0.75).epsilon(1e-12));
+  CHECK(loads.force.x() < 0.0);
+  CHECK(loads.damping > 0.0);
+  // Implicit: even a step of 100 s only brings the body towards rest, never past it.
+  for (double bigDt : {dt, 1.0, 100.0}) {
+    CAPTURE(bigDt);
+    const DragLoads big = rigidBodyDrag(body, motion, liquid, bigDt);
+    ImplicitUpdateInput input;
+    input.force = big.force;
+    input.torque = big.torque;
+    input.dragDamping = big.damping;
+    const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, bigDt);
+    REQUIRE(next);
+    CHECK(next->linear.x() >= 0.0);
+    CHECK(next->linear.x() < motion.linearVelocity.x());
+  }
+  // Out of the water, nothing: both patches above the surface by more than their radius.
+  motion.meshPose.translation = {0, 2.0, 0};
+  motion.center = {0, 2.0, 0};
+  const DragLoads dry = rigidBodyDrag(body, motion, liquid, dt);
+  CHECK(dry.patchesVisited == 0);
+  CHECK(dry.force.norm() == 0.0);
+  CHECK(dry.damping == 0.0);
+}
