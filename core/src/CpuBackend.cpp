@@ -5,6 +5,7 @@
 /// is compared with (tests/gpu/test_backend_parity.cpp).
 
 #include <algorithm>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,14 +37,16 @@ class CpuBackend final : public ComputeBackend {
     layout.tileSize = bake.tileSize;
     layout.texelIndex = bake.texelIndex;
     layout.tileStart = bake.tileStart;
-    bodies_.emplace_back(Body{std::move(layout), std::move(hydrostatics).value(),
-                           TextureMassIntegrator(textures, massReferencePoint), massReferencePoint});
+    bodies_.push_back(std::make_shared<Body>(Body{std::move(layout), std::move(hydrostatics).value(),
+                                                  TextureMassIntegrator(textures, massReferencePoint), massReferencePoint}));
     seen_.push_back(0);
     return BackendBodyId(bodies_.size() - 1);
   }
 
   Status updateSurface(BackendBodyId id, const SurfaceTextures& textures) override {
     if (id >= bodies_.size() || !bodies_[id]) return Error{"cpu backend: unknown body " + std::to_string(id)};
+    if (bodies_[id].use_count() > 1)
+      return Error{"cpu backend: body " + std::to_string(id) + " shares its texels with another (addInstance); a deforming body needs its own"};
     Body& body = *bodies_[id];
     if (textures.size() != body.hydrostatics.texelCount())
       return Error{"cpu backend: body " + std::to_string(id) + " has " + std::to_string(body.hydrostatics.texelCount()) +
@@ -55,6 +58,13 @@ class CpuBackend final : public ComputeBackend {
   }
 
   std::size_t bodyCount() const override { return bodies_.size(); }
+
+  Expected<BackendBodyId> addInstance(BackendBodyId of) override {
+    if (of >= bodies_.size() || !bodies_[of]) return Error{"cpu backend: unknown body " + std::to_string(of)};
+    bodies_.push_back(bodies_[of]);  // the same read-only texels, tiles and integrator
+    seen_.push_back(0);
+    return BackendBodyId(bodies_.size() - 1);
+  }
 
   void releaseBody(BackendBodyId id) override {
     // Its texels, tiles and mass integrator freed; the id stays taken (checkBatch refuses it).
@@ -132,7 +142,7 @@ class CpuBackend final : public ComputeBackend {
   }
 
   ParallelFor parallelFor_;  // empty: one body after the other
-  std::vector<std::optional<Body>> bodies_;  // empty once released
+  std::vector<std::shared_ptr<Body>> bodies_;  // null once released; shared by instances
   std::vector<HydrostaticsResult> answers_;  // per query of the batch in progress
   std::vector<std::optional<Error>> failures_;  // ... and its error, if any
   std::vector<std::uint64_t> seen_;  // batch stamp per body

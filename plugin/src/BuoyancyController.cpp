@@ -187,13 +187,41 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
   }
   const Mesh& mesh = *floating->mesh;
-  if (Status closed = checkClosedMesh(mesh); !closed) return closed.error();  // the message names the mesh
+  const bool deforming = settings.effects.has(Effect::Deformation);
+  const bool flooding = settings.effects.has(Effect::Flooding);
+  const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
+  const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
+                              settings.effects.has(Effect::VariableMass) || deforming || flooding;
+  // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
+  // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
+  const bool texturePath = settings.method == HydrostaticsMethod::Texture &&
+                           (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
+  const bool shareable = settings.mesh != nullptr && !wantsMassModel && !settings.effects.has(Effect::Wetting);
+  const ModelKey key{settings.mesh.get(), settings.resolution, texturePath, settings.effects.has(Effect::Drag),
+                     settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction};
+  std::shared_ptr<const SharedBodyModel> shared;
+  if (shareable) {
+    auto found = models_.find(key);
+    if (found != models_.end()) shared = found->second.lock();
+  }
+  if (shared && shared->backendBody) {
+    // The backend shares the first body's texels; one that cannot (GL) gets this body's own.
+    Expected<BackendBodyId> instance = backend_->addInstance(*shared->backendBody);
+    if (instance) {
+      floating->backendBody = *instance;
+      floating->backendTexels = shared->backendTexels;
+    } else {
+      shared = nullptr;
+    }
+  }
+  if (!shared) {
+    if (Status closed = checkClosedMesh(mesh); !closed) return closed.error();  // the message names the mesh
+  }
 
-  // Uniform solids: the exact polyhedral mass properties (once, at registration).
-  Expected<MassProperties> unitDensity = polyhedralMassProperties(mesh, 1.0);
+  // Uniform solids: the exact polyhedral mass properties (once per mesh, at registration).
+  Expected<MassProperties> unitDensity = shared ? Expected<MassProperties>(shared->unitDensity) : polyhedralMassProperties(mesh, 1.0);
   if (!unitDensity) return unitDensity.error();
   if (!(unitDensity->volume > 0.0)) return Error{"mesh: encloses no volume"};
-  const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
   double density = 0.0;
   if (settings.density) {
     density = *settings.density;
@@ -216,21 +244,20 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     upper = upper.cwiseMax(p);
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
-  const bool deforming = settings.effects.has(Effect::Deformation);
-  const bool flooding = settings.effects.has(Effect::Flooding);
-  const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
-                              settings.effects.has(Effect::VariableMass) || deforming || flooding;
   const bool needsBake =
       settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
-  if (needsBake) {
+  if (shared) {
+    floating->model = shared;
+    floating->dragPatches = shared->dragPatches;
+    floating->totalDragPatchArea = shared->totalDragPatchArea;
+  } else if (needsBake) {
     BodyGeometrySettings geometrySettings;
     geometrySettings.bake.width = settings.resolution;
     geometrySettings.bake.height = settings.resolution;
     Expected<BodyGeometry> geometry = prepareBodyGeometry(mesh, geometrySettings);
     if (!geometry) return geometry.error();
-    if (settings.method == HydrostaticsMethod::Texture &&
-        (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass))) {
+    if (texturePath) {
       // The cone apex of the backend's mass pass: the bounding box's centre, as the mass model's.
       Expected<BackendBodyId> id = backend_->addBody(geometry->bake, geometry->textures, floating->boundsCenter);
       if (!id) return id.error();
@@ -238,10 +265,9 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->backendTexels = geometry->textures.size();
     }
     if (settings.effects.has(Effect::Drag)) {
-      floating->dragPatches = mergeTexelsIntoDragPatches(geometry->bake, geometry->textures,
-                                                         settings.dragPatchNormalCosine,
-                                                         settings.dragPatchRadiusFraction * referenceLength);
-      for (const DragPatch& patch : floating->dragPatches) floating->totalDragPatchArea += patch.area;
+      floating->dragPatches = std::make_shared<const std::vector<DragPatch>>(mergeTexelsIntoDragPatches(
+          geometry->bake, geometry->textures, settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction * referenceLength));
+      for (const DragPatch& patch : *floating->dragPatches) floating->totalDragPatchArea += patch.area;
     }
     if (wantsMassModel) {
       // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.
@@ -369,9 +395,25 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     removeBody(body);
     return s;
   }
-  std::size_t bytes = registered.dragPatches.capacity() * sizeof(DragPatch);
-  if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
+  // Memory: a shared model counts on the body that made it; the bodies that share it hold none.
+  std::size_t bytes = 0;
+  if (!shared) {
+    if (registered.dragPatches) bytes += registered.dragPatches->capacity() * sizeof(DragPatch);
+    if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
+  }
   registered.report.effectMemoryBytes = bytes;
+  registered.report.sharesModel = shared != nullptr;
+  if (shareable && !shared) {
+    auto model = std::make_shared<SharedBodyModel>();
+    model->mesh = settings.mesh;
+    model->unitDensity = *unitDensity;
+    model->backendBody = registered.backendBody;
+    model->backendTexels = registered.backendTexels;
+    model->dragPatches = registered.dragPatches;
+    model->totalDragPatchArea = registered.totalDragPatchArea;
+    registered.model = model;
+    models_[key] = model;
+  }
   return Ok{};
 }
 
@@ -405,7 +447,14 @@ bool BuoyancyController::removeBody(btRigidBody* body) {
   if (body->getBroadphaseHandle() != nullptr) world_.updateSingleAabb(body);
   body->setFlags(floating.originalFlags);
   body->setGravity(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
-  if (floating.backendBody) backend_->releaseBody(*floating.backendBody);
+  if (floating.backendBody) {
+    // A shared model's texels stay in the backend under the id of the body that made it (the
+    // anchor others instance from) until its last user leaves; then the anchor's slot goes too.
+    const std::optional<BackendBodyId> anchor = floating.model ? floating.model->backendBody : std::nullopt;
+    const bool lastUser = !floating.model || floating.model.use_count() == 1;
+    if (anchor != floating.backendBody || lastUser) backend_->releaseBody(*floating.backendBody);
+    if (anchor && anchor != floating.backendBody && lastUser) backend_->releaseBody(*anchor);
+  }
   bodies_.erase(it);
   return true;
 }
@@ -706,7 +755,7 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   if (effects.has(Effect::Drag)) {
     ++counters.dragPasses;
     DragBody dragBody;
-    dragBody.patches = floating.dragPatches;
+    dragBody.patches = *floating.dragPatches;
     dragBody.totalPatchArea = floating.totalDragPatchArea;
     dragBody.referenceLength = floating.referenceLength;
     dragBody.coefficients = settings.drag;

@@ -49,6 +49,18 @@ struct FloodingState {
   std::vector<Eigen::Vector3d> appliedCentroid;  ///< per node: m, mesh frame, last handed to the mass model
 };
 
+/// What bodies of one mesh and the same bake and drag settings share, read-only (MuJoCo's
+/// model/data split): made by the first such body, reused by the next ones (BuoyancyController::
+/// addBody), so that a second crate of a kind bakes nothing and holds no texel of its own.
+struct SharedBodyModel {
+  std::shared_ptr<const Mesh> mesh;                          ///< keeps the key's mesh alive
+  MassProperties unitDensity;                                ///< exact mass properties at density 1
+  std::optional<BackendBodyId> backendBody;                  ///< the first body's texels, to instance
+  std::size_t backendTexels = 0;                             ///< covered texels there
+  std::shared_ptr<const std::vector<DragPatch>> dragPatches; ///< when drag is listed
+  double totalDragPatchArea = 0.0;                           ///< m^2
+};
+
 /// One body's step between the phases of BuoyancyController::updateAction: what the serial read
 /// phase took from Bullet, and what the parallel phase computed from it and the body's own record
 /// alone, for the serial write phase to hand back to Bullet.
@@ -82,7 +94,8 @@ struct FloatingBody {
   std::shared_ptr<const Mesh> mesh;             ///< closed mesh, mesh frame (m)
   std::optional<BackendBodyId> backendBody;     ///< its id in the controller's backend (HydrostaticsMethod::Texture)
   std::size_t backendTexels = 0;                ///< covered texels registered there
-  std::vector<DragPatch> dragPatches;           ///< only when Effect::Drag is listed
+  std::shared_ptr<const std::vector<DragPatch>> dragPatches;  ///< only when Effect::Drag is listed (shared by a model)
+  std::shared_ptr<const SharedBodyModel> model; ///< what it shares with bodies of its mesh and settings, or null
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
   std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset

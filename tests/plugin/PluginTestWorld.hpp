@@ -36,7 +36,8 @@ class TestWorld {
   TestWorld& operator=(const TestWorld&) = delete;
 
   /// Adds a body with `mesh` placed (mesh frame) at `position`, rotated by `rotation`, floating per
-  /// `settings` (its mesh is set here). Returns null and stores the error when addBody fails.
+  /// `settings` (its mesh is set here unless settings.mesh is given, e.g. one mesh shared by many
+  /// bodies). Returns null and stores the error when addBody fails.
   btRigidBody* add(const Mesh& mesh, FloatingBodySettings settings, const btVector3& position,
                    const btQuaternion& rotation = btQuaternion::getIdentity()) {
     auto hull = std::make_unique<btConvexHullShape>();
@@ -47,7 +48,7 @@ class TestWorld {
     btRigidBody::btRigidBodyConstructionInfo info(1, nullptr, hull.get(), btVector3(1, 1, 1));
     auto body = std::make_unique<btRigidBody>(info);
     body->setWorldTransform(btTransform(rotation, position));
-    settings.mesh = std::make_shared<const Mesh>(mesh);
+    if (!settings.mesh) settings.mesh = std::make_shared<const Mesh>(mesh);  // given: shared with other bodies
     lastStatus = controller_->addBody(body.get(), settings);
     if (!lastStatus) return nullptr;
     world_.addRigidBody(body.get());

@@ -281,3 +281,55 @@ TEST_CASE("scene files: errors name the key or file", "[scene]") {
     CHECK(loadScene(base + "/" + name).ok());
   }
 }
+
+TEST_CASE("bodies of one mesh and the same settings share one model", "[controller][model]") {
+  TestWorld world;
+  auto box = std::make_shared<const Mesh>(primitives::box({1, 0.5, 1}));
+  FloatingBodySettings settings = solid(500, {Effect::Buoyancy, Effect::Drag}, HydrostaticsMethod::Texture, 64);
+  settings.mesh = box;
+  btRigidBody* first = world.add(*box, settings, btVector3(0, btScalar(0.1), 0));
+  btRigidBody* second = world.add(*box, settings, btVector3(0, btScalar(0.1), 3));
+  btRigidBody* third = world.add(*box, settings, btVector3(0, btScalar(0.1), 6));
+  // The same box from its own copy of the mesh: a model of its own, the reference.
+  FloatingBodySettings own = settings;
+  own.mesh = std::make_shared<const Mesh>(*box);
+  btRigidBody* alone = world.add(*box, own, btVector3(0, btScalar(0.1), 9));
+  REQUIRE(first != nullptr);
+  REQUIRE(second != nullptr);
+  REQUIRE(third != nullptr);
+  REQUIRE(alone != nullptr);
+  BuoyancyController& controller = world.controller();
+  CHECK_FALSE(controller.report(first)->sharesModel);
+  CHECK(controller.report(first)->effectMemoryBytes > 0);
+  for (const btRigidBody* body : {second, third}) {
+    CHECK(controller.report(body)->sharesModel);
+    CHECK(controller.report(body)->effectMemoryBytes == 0);  // no texel, no patch of its own
+  }
+  CHECK_FALSE(controller.report(alone)->sharesModel);
+  // A different resolution is a different model.
+  FloatingBodySettings finer = settings;
+  finer.resolution = 128;
+  btRigidBody* other = world.add(*box, finer, btVector3(0, btScalar(0.1), 12));
+  REQUIRE(other != nullptr);
+  CHECK_FALSE(controller.report(other)->sharesModel);
+
+  // Sharing changes no number: the shared bodies move exactly as the one with its own model
+  // (the texture query works relative to each body's own translation).
+  for (int i = 0; i < 60; ++i) world.step(1.0 / 60.0);
+  const btScalar reference = alone->getCenterOfMassPosition().y();
+  CHECK(first->getCenterOfMassPosition().y() == reference);
+  CHECK(second->getCenterOfMassPosition().y() == reference);
+  CHECK(third->getCenterOfMassPosition().y() == reference);
+
+  // The body that made the model leaves: the others keep its texels (the backend shares them).
+  world.world().removeRigidBody(first);
+  CHECK(controller.removeBody(first));
+  controller.resetStatistics();
+  for (int i = 0; i < 5; ++i) world.step(1.0 / 60.0);
+  CHECK(controller.statistics().failedQueries == 0);
+  CHECK(controller.report(second)->hydrostatics.submergedVolume > 0.0);
+  // ... and a new body of the kind still registers (sharing with the remaining ones).
+  btRigidBody* late = world.add(*box, settings, btVector3(0, btScalar(0.1), 15));
+  REQUIRE(late != nullptr);
+  CHECK(controller.report(late)->sharesModel);
+}

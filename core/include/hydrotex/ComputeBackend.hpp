@@ -55,6 +55,15 @@ class ComputeBackend {
   /// Number of registered bodies.
   virtual std::size_t bodyCount() const = 0;
 
+  /// Registers a body that shares the texels of registered body `of` (the same bake, surface and
+  /// mass reference point; a crate of a kind), read-only: its own id, no copy. updateSurface on
+  /// either is then refused. Errors: unknown body; a backend that does not share (the default,
+  /// the GL one) says so, and the caller registers the body with addBody instead.
+  virtual Expected<BackendBodyId> addInstance(BackendBodyId of) {
+    (void)of;
+    return Error{name() + " backend: does not share bodies' texels (addInstance); register the body with addBody"};
+  }
+
   /// Frees what a body holds, when its owner no longer asks for it (a controller's removeBody).
   /// Its id stays taken, and asking for it afterwards is an error of the pass that asks. The
   /// default keeps everything (the GL backend packs all bodies in shared buffers and keeps their

@@ -8,7 +8,9 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <tuple>
 #include <optional>
 #include <vector>
 
@@ -94,7 +96,8 @@ struct FloatingBodyReport {
   btVector3 dragForce{0, 0, 0};      ///< last drag force (N, world)
   btVector3 dragTorque{0, 0, 0};     ///< last drag torque about the centre of mass (N m, world)
   double addedMass = 0.0;            ///< last added mass (kg)
-  std::size_t effectMemoryBytes = 0; ///< heap held for the listed effects (0 for buoyancy-only bodies' drag)
+  std::size_t effectMemoryBytes = 0; ///< heap held for the listed effects (0 for buoyancy-only bodies' drag; 0 for a body that shares its model)
+  bool sharesModel = false;          ///< it reuses the bake, texels and drag patches of an earlier body of its mesh and settings
   double liquidVolume = 0.0;         ///< with Effect::Flooding: liquid held in the liquid graph (m^3)
   bool atRest = false;               ///< at rest afloat at the last step
   double liquidHeld = 0.0;           ///< with Effect::Wetting: liquid held in the surface layer (m^3)
@@ -103,7 +106,8 @@ struct FloatingBodyReport {
 };
 
 class BodyThreads;
-class FloatingBody;
+struct FloatingBody;
+struct SharedBodyModel;
 
 /// Makes registered btRigidBody objects float. Not copyable; the world and the bodies must
 /// outlive it (or be removed first).
@@ -231,6 +235,10 @@ class BuoyancyController : public btActionInterface {
   std::shared_ptr<ComputeBackend> backend_;
   std::vector<BackendHydrostaticsQuery> queries_;  ///< this step's batch (planBody)
   std::vector<HydrostaticsResult> answers_;        ///< ... and its answers (askBackend)
+  /// What identifies a shareable model: the mesh (by identity), resolution, the texture path,
+  /// drag and its patch settings.
+  using ModelKey = std::tuple<const Mesh*, int, bool, bool, double, double>;
+  std::map<ModelKey, std::weak_ptr<SharedBodyModel>> models_;  ///< models in use (addBody)
   double time_ = 0.0;
 };
 
