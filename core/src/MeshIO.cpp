@@ -144,6 +144,12 @@ Expected<Mesh> convertScene(const aiScene& scene, const std::string& path) {
 
   Mesh result;
   result.sourceName = std::filesystem::path(path).filename().string();
+  // A unit the file declares reaches us as its root node's scale (assimp applies COLLADA's
+  // <unit meter> there, after its up-axis rotation): the cube root of the determinant.
+  if (scene.mRootNode != nullptr) {
+    const double determinant = std::abs(toEigen(scene.mRootNode->mTransformation).topLeftCorner<3, 3>().determinant());
+    if (std::isfinite(determinant) && determinant > 0.0) result.fileUnitScale = std::cbrt(determinant);
+  }
   result.triangles.reserve(triangleCount);
   if (everyTriangleHasUv) result.uv.uvTriangles.reserve(triangleCount);
   std::unordered_map<Vector3Key, int, Vector3KeyHash> positionIndex;

@@ -42,6 +42,7 @@ int runInspect(const InspectOptions& options) {
   out["inside_out_parts"] = report.insideOutParts;
   out["up"] = options.load.up == UpAxis::Z ? "z" : "y";
   out["scale"] = options.load.scale;
+  out["file_unit_scale"] = mesh->fileUnitScale;
   nlohmann::json repaired;
   repaired["enabled"] = options.load.repair.enabled;
   repaired["vertices_welded"] = repairs.verticesWelded;
@@ -60,6 +61,8 @@ int runInspect(const InspectOptions& options) {
   text << options.meshPath << "\n" << (options.load.repair.enabled ? repairs.summary() : "repairs: off (--no-repair)\n")
        << report.summary();
   if (!report.summary().empty() && report.summary().back() != '\n') text << "\n";
+  if (std::abs(mesh->fileUnitScale - 1.0) > 1e-12)
+    text << "units: the file declares " << mesh->fileUnitScale << " m per unit (applied)\n";
   printResult(options.json, out, text.str());
   return 0;
 }

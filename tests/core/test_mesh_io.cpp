@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <map>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <tuple>
 
 #include "TestPaths.hpp"
 #include "hydrotex/MeshIO.hpp"
@@ -416,5 +418,48 @@ TEST_CASE("loadMesh with MeshLoadSettings: a z-up file equals its y-up twin, --s
     CHECK(refused.error().message.find('\n') == std::string::npos);
     CHECK_FALSE(hydrotex::upAxisFromName("x"));
     CHECK(*hydrotex::upAxisFromName("Z") == hydrotex::UpAxis::Z);
+  }
+}
+
+namespace {
+
+/// A closed cube of side `side` file units in COLLADA 1.4, declaring `metersPerUnit` (issue 20).
+std::string colladaCube(double side, const std::string& metersPerUnit) {
+  std::ostringstream positions, indices;
+  for (int i = 0; i < 8; ++i) positions << (i & 4 ? side : 0.0) << ' ' << (i & 2 ? side : 0.0) << ' ' << (i & 1 ? side : 0.0) << ' ';
+  const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& q : quads) indices << q[0] << ' ' << q[1] << ' ' << q[2] << ' ' << q[0] << ' ' << q[2] << ' ' << q[3] << ' ';
+  std::ostringstream doc;
+  doc << R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset>)" << (metersPerUnit.empty() ? "" : "<unit meter=\"" + metersPerUnit + "\"/>") << R"(<up_axis>Y_UP</up_axis></asset>
+  <library_geometries><geometry id="box"><mesh>
+    <source id="p"><float_array id="pa" count="24">)" << positions.str() << R"(</float_array>
+      <technique_common><accessor source="#pa" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="12"><input semantic="VERTEX" source="#v" offset="0"/><p>)" << indices.str() << R"(</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#box"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>)";
+  return doc.str();
+}
+
+}  // namespace
+
+TEST_CASE("a unit the file declares (COLLADA) is applied and reported", "[meshio][units]") {
+  // 100 units of a centimetre: a 1 m cube, whose volume is exact (1 m^3 to float rounding of
+  // the file's coordinates, 1e-6 relative).
+  for (const auto& [unit, side, scale] : {std::tuple<std::string, double, double>{"0.01", 100.0, 0.01},
+                                          {"1", 1.0, 1.0}, {"", 1.0, 1.0}}) {
+    CAPTURE(unit);
+    const std::string path = outputPath("units_cube_" + (unit.empty() ? std::string("none") : unit) + ".dae");
+    std::ofstream(path) << colladaCube(side, unit);
+    const hydrotex::Expected<Mesh> mesh = hydrotex::loadMesh(path);
+    REQUIRE(mesh);
+    CHECK(mesh->fileUnitScale == Approx(scale).epsilon(1e-9));
+    const hydrotex::MeshReport report = hydrotex::validateMesh(*mesh);
+    REQUIRE(report.volume);
+    CHECK(*report.volume == Approx(1.0).epsilon(1e-6));
   }
 }

@@ -30,6 +30,9 @@ struct Mesh {
   std::vector<Eigen::Vector3i> triangles;  ///< indices into positions, counter-clockwise seen from outside
   UvLayout uv;                             ///< the artist's texture coordinates; empty when the file had none
   std::string sourceName;                  ///< file name (or generator name) used in messages
+  /// Metres per unit that the file itself declared and the import applied (COLLADA's
+  /// <unit meter="...">, as the scale of assimp's root node): 1 when the file declares none.
+  double fileUnitScale = 1.0;
 
   /// True when the file provided texture coordinates for every triangle.
   bool hasUvs() const { return uv.coversTriangles(triangles.size()); }
