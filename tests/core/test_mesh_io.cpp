@@ -457,7 +457,7 @@ TEST_CASE("a unit the file declares (COLLADA) is applied and reported", "[meshio
     std::ofstream(path) << colladaCube(side, unit);
     const hydrotex::Expected<Mesh> mesh = hydrotex::loadMesh(path);
     REQUIRE(mesh);
-    CHECK(mesh->fileUnitScale == Approx(scale).epsilon(1e-9));
+    CHECK(mesh->fileUnitScale == Approx(scale).epsilon(1e-7));  // assimp keeps the scale in float
     const hydrotex::MeshReport report = hydrotex::validateMesh(*mesh);
     REQUIRE(report.volume);
     CHECK(*report.volume == Approx(1.0).epsilon(1e-6));
