@@ -35,6 +35,12 @@ std::pair<double, double> LiquidSurface::heightRange(double /*time*/) const {
 
 double LiquidSurface::densityAt(const Eigen::Vector3d& /*worldPoint*/) const { return density(); }
 
+std::optional<SurfaceJet> LiquidSurface::heightJet(double /*x*/, double /*z*/, double /*time*/) const {
+  return std::nullopt;
+}
+
+std::optional<SurfaceSmoothness> LiquidSurface::smoothness(double /*time*/) const { return std::nullopt; }
+
 // ---- FlatSurface ------------------------------------------------------------------------------
 
 FlatSurface::FlatSurface(double height, double density) : height_(height), density_(density) {}
@@ -64,6 +70,11 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
 }
 
 double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
+  double x0, z0;
+  return restPoint(x, z, time, x0, z0);
+}
+
+double GerstnerWaves::restPoint(double x, double z, double time, double& x0, double& z0) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -71,7 +82,9 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
   // within one (sub-tolerance) step of the solution.
   constexpr int kMaxIterations = 24;
   constexpr double kMinDeterminant = 0.1;
-  double x0 = x, z0 = z, height = 0.0;
+  x0 = x;
+  z0 = z;
+  double height = 0.0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
     height = 0.0;
@@ -99,6 +112,70 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
     z0 -= stepZ;
   }
   return meanLevel_ + height;
+}
+
+std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double time) const {
+  // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
+  // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
+  // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
+  double x0, z0;
+  SurfaceJet jet;
+  jet.height = restPoint(x, z, time, x0, z0);
+  double jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0;
+  for (const Component& c : components_) {
+    const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
+    const double slope = c.steepness * c.amplitude * c.waveNumber * std::cos(theta);
+    jxx -= slope * c.dirX * c.dirX;
+    jxz -= slope * c.dirX * c.dirZ;
+    jzz -= slope * c.dirZ * c.dirZ;
+    const double rise = -c.amplitude * c.waveNumber * std::sin(theta);
+    gx += rise * c.dirX;
+    gz += rise * c.dirZ;
+  }
+  const double determinant = jxx * jzz - jxz * jxz;
+  if (!(determinant > 0.0)) return std::nullopt;  // the displacement map folds here
+  const double ixx = jzz / determinant, ixz = -jxz / determinant, izz = jxx / determinant;
+  jet.slopeX = ixx * gx + ixz * gz;
+  jet.slopeZ = ixz * gx + izz * gz;
+  for (const Component& c : components_) {
+    const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
+    const double k2 = c.amplitude * c.waveNumber * c.waveNumber;
+    const double weight = -k2 * std::cos(theta) -
+                          c.steepness * k2 * std::sin(theta) * (jet.slopeX * c.dirX + jet.slopeZ * c.dirZ);
+    const double ex = ixx * c.dirX + ixz * c.dirZ, ez = ixz * c.dirX + izz * c.dirZ;
+    jet.curvatureXX += weight * ex * ex;
+    jet.curvatureXZ += weight * ex * ez;
+    jet.curvatureZZ += weight * ez * ez;
+  }
+  return jet;
+}
+
+std::optional<SurfaceSmoothness> GerstnerWaves::smoothness(double /*time*/) const {
+  // Along a line x = c + s e (|e| = 1) the rest point y(s) solves J(y) y' = e. With
+  // K_n = sum Q A k^n, S_n = sum A k^n and sigma = 1 - K_1 (J's smallest eigenvalue at worst),
+  // differentiating J y' = e up to three times bounds |y^(n)| by a_n below; the chain rule on
+  // eta0(y(s)) (|D^n eta0| <= S_n) then bounds the height's third and fourth derivatives.
+  double s[5] = {0, 0, 0, 0, 0}, k[5] = {0, 0, 0, 0, 0};
+  for (const Component& c : components_) {
+    double power = 1.0;
+    for (int n = 1; n <= 4; ++n) {
+      power *= c.waveNumber;
+      s[n] += std::abs(c.amplitude) * power;
+      k[n] += c.steepness * std::abs(c.amplitude) * power;
+    }
+  }
+  const double sigma = 1.0 - k[1];
+  if (!(sigma > 0.0)) return std::nullopt;
+  const double a1 = 1.0 / sigma;
+  const double a2 = k[2] * a1 * a1 / sigma;
+  const double a3 = (3.0 * k[2] * a1 * a2 + k[3] * a1 * a1 * a1) / sigma;
+  const double a4 = (3.0 * k[2] * a1 * a3 + 3.0 * (k[3] * a1 * a1 + k[2] * a2) * a2 +
+                     (k[4] * a1 * a1 * a1 + 3.0 * k[3] * a1 * a2 + k[2] * a3) * a1) / sigma;
+  SurfaceSmoothness out;
+  out.third = s[3] * a1 * a1 * a1 + 3.0 * s[2] * a1 * a2 + s[1] * a3;
+  out.fourth = s[4] * a1 * a1 * a1 * a1 + 6.0 * s[3] * a1 * a1 * a2 + 3.0 * s[2] * a2 * a2 +
+               4.0 * s[2] * a1 * a3 + s[1] * a4;
+  return out;
 }
 
 std::pair<double, double> GerstnerWaves::heightRange(double /*time*/) const {
