@@ -69,12 +69,9 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
   }
 }
 
-double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
-  double x0, z0;
-  return restPoint(x, z, time, x0, z0);
-}
+double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
 
-double GerstnerWaves::restPoint(double x, double z, double time, double& x0, double& z0) const {
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -82,15 +79,19 @@ double GerstnerWaves::restPoint(double x, double z, double time, double& x0, dou
   // within one (sub-tolerance) step of the solution.
   constexpr int kMaxIterations = 24;
   constexpr double kMinDeterminant = 0.1;
-  x0 = x;
-  z0 = z;
-  double height = 0.0;
+  RestPoint p{};
+  p.x0 = x;
+  p.z0 = z;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
-    height = 0.0;
-    for (const Component& c : components_) {
-      const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
+    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
+    for (std::size_t w = 0; w < components_.size(); ++w) {
+      const Component& c = components_[w];
+      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
       const double sine = std::sin(theta), cosine = std::cos(theta);
+      if (w < kCachedWaves) {
+        p.sine[w] = sine;
+        p.cosine[w] = cosine;
+      }
       const double horizontal = c.steepness * c.amplitude;
       hx -= horizontal * sine * c.dirX;
       hz -= horizontal * sine * c.dirZ;
@@ -99,49 +100,57 @@ double GerstnerWaves::restPoint(double x, double z, double time, double& x0, dou
       jxx -= slope * c.dirX * c.dirX;
       jxz -= slope * c.dirX * c.dirZ;
       jzz -= slope * c.dirZ * c.dirZ;
+      const double rise = -c.amplitude * c.waveNumber * sine;
+      gx += rise * c.dirX;
+      gz += rise * c.dirZ;
     }
-    const double rx = x0 + hx - x, rz = z0 + hz - z;
+    p.height = meanLevel_ + height;
+    p.jxx = jxx;
+    p.jxz = jxz;
+    p.jzz = jzz;
+    p.gx = gx;
+    p.gz = gz;
+    const double rx = p.x0 + hx - x, rz = p.z0 + hz - z;
     const double determinant = jxx * jzz - jxz * jxz;
     double stepX = rx, stepZ = rz;
     if (determinant > kMinDeterminant) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
     }
-    if (std::abs(stepX) + std::abs(stepZ) < kHorizontalTolerance) break;
-    x0 -= stepX;
-    z0 -= stepZ;
+    if (std::abs(stepX) + std::abs(stepZ) < kHorizontalTolerance) return p;
+    if (iteration + 1 < kMaxIterations) {
+      p.x0 -= stepX;
+      p.z0 -= stepZ;
+    }
   }
-  return meanLevel_ + height;
+  return p;  // not converged: the values of the last evaluated point
 }
 
 std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double time) const {
   // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
   // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
   // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
-  double x0, z0;
+  const RestPoint p = restPoint(x, z, time);
   SurfaceJet jet;
-  jet.height = restPoint(x, z, time, x0, z0);
-  double jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0;
-  for (const Component& c : components_) {
-    const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
-    const double slope = c.steepness * c.amplitude * c.waveNumber * std::cos(theta);
-    jxx -= slope * c.dirX * c.dirX;
-    jxz -= slope * c.dirX * c.dirZ;
-    jzz -= slope * c.dirZ * c.dirZ;
-    const double rise = -c.amplitude * c.waveNumber * std::sin(theta);
-    gx += rise * c.dirX;
-    gz += rise * c.dirZ;
-  }
-  const double determinant = jxx * jzz - jxz * jxz;
+  jet.height = p.height;
+  const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;
   if (!(determinant > 0.0)) return std::nullopt;  // the displacement map folds here
-  const double ixx = jzz / determinant, ixz = -jxz / determinant, izz = jxx / determinant;
-  jet.slopeX = ixx * gx + ixz * gz;
-  jet.slopeZ = ixz * gx + izz * gz;
-  for (const Component& c : components_) {
-    const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
+  const double ixx = p.jzz / determinant, ixz = -p.jxz / determinant, izz = p.jxx / determinant;
+  jet.slopeX = ixx * p.gx + ixz * p.gz;
+  jet.slopeZ = ixz * p.gx + izz * p.gz;
+  for (std::size_t w = 0; w < components_.size(); ++w) {
+    const Component& c = components_[w];
+    double sine, cosine;
+    if (w < kCachedWaves) {
+      sine = p.sine[w];
+      cosine = p.cosine[w];
+    } else {
+      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+      sine = std::sin(theta);
+      cosine = std::cos(theta);
+    }
     const double k2 = c.amplitude * c.waveNumber * c.waveNumber;
-    const double weight = -k2 * std::cos(theta) -
-                          c.steepness * k2 * std::sin(theta) * (jet.slopeX * c.dirX + jet.slopeZ * c.dirZ);
+    const double weight = -k2 * cosine - c.steepness * k2 * sine * (jet.slopeX * c.dirX + jet.slopeZ * c.dirZ);
     const double ex = ixx * c.dirX + ixz * c.dirZ, ez = ixz * c.dirX + izz * c.dirZ;
     jet.curvatureXX += weight * ex * ex;
     jet.curvatureXZ += weight * ex * ez;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "HydrostaticSums.hpp"
+#include "TexelPosing.hpp"
 
 namespace hydrotex {
 
@@ -20,27 +21,10 @@ namespace {
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
 
-/// The world-frame quantities of one texel under a rigid pose: x' = R p + offset, A' = R A.
-struct PosedTexel {
-  double x, y, z, ax, ay, az;
-};
-
-inline PosedTexel pose(const Texel& t, const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
-  const double px = t.position[0], py = t.position[1], pz = t.position[2];
-  const double ax = t.areaVector[0], ay = t.areaVector[1], az = t.areaVector[2];
-  return {r(0, 0) * px + r(0, 1) * py + r(0, 2) * pz + offset.x(),
-          r(1, 0) * px + r(1, 1) * py + r(1, 2) * pz + offset.y(),
-          r(2, 0) * px + r(2, 1) * py + r(2, 2) * pz + offset.z(),
-          r(0, 0) * ax + r(0, 1) * ay + r(0, 2) * az,
-          r(1, 0) * ax + r(1, 1) * ay + r(1, 2) * az,
-          r(2, 0) * ax + r(2, 1) * ay + r(2, 2) * az};
-}
-
-/// Vertical extents of the texel's edges: a = |eU'.y|, b = |eV'.y|.
-inline void verticalEdges(const Texel& t, const Eigen::Matrix3d& r, double& a, double& b) {
-  a = r(1, 0) * t.edgeU[0] + r(1, 1) * t.edgeU[1] + r(1, 2) * t.edgeU[2];
-  b = r(1, 0) * t.edgeV[0] + r(1, 1) * t.edgeV[1] + r(1, 2) * t.edgeV[2];
-}
+using detail::PosedTexel;
+using detail::pose;
+using detail::verticalEdges;
+using detail::verticalRange;
 
 /// One texel under a flat surface at y' = 0 (depth of its centre d = -y').
 inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::Matrix3d& r,
@@ -53,16 +37,6 @@ inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::
   const PosedTexel w = pose(t, r, offset);
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
-}
-
-/// Vertical range of a body-frame box under the rotation's y row and a vertical offset.
-inline void verticalRange(const Eigen::Vector3d& center, const Eigen::Vector3d& halfExtent, const Eigen::Matrix3d& r,
-                          double offsetY, double& low, double& high) {
-  const double c = r(1, 0) * center.x() + r(1, 1) * center.y() + r(1, 2) * center.z() + offsetY;
-  const double h = std::abs(r(1, 0)) * halfExtent.x() + std::abs(r(1, 1)) * halfExtent.y() +
-                   std::abs(r(1, 2)) * halfExtent.z();
-  low = c - h;
-  high = c + h;
 }
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
@@ -119,6 +93,10 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     return Error{"texture hydrostatics: bake and textures differ in resolution"};
   if (settings.tileSize < 0) return Error{"texture hydrostatics: tile size " + std::to_string(settings.tileSize) + " is negative"};
   if (settings.groupSize < 0) return Error{"texture hydrostatics: group size " + std::to_string(settings.groupSize) + " is negative"};
+  if (!(settings.surfaceSampleSpacing >= 0.0) || !std::isfinite(settings.surfaceSampleSpacing))
+    return Error{"texture hydrostatics: surface sample spacing is negative or not finite"};
+  if (!(settings.surfaceModelTolerance >= 0.0) || !std::isfinite(settings.surfaceModelTolerance))
+    return Error{"texture hydrostatics: surface model tolerance is negative or not finite"};
 
   TextureHydrostatics out;
   // Tiles of 4 texels and groups of about sqrt(width) texels: the group loop grows as
@@ -130,6 +108,8 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
                        ? settings.groupSize
                        : std::max(1, int(std::lround(std::sqrt(double(bake.width)) / tileSize)));
   const int groupSize = out.groupSize_;
+  out.surfaceSampleSpacing_ = settings.surfaceSampleSpacing;
+  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : 1e-2;
   const int groupTexels = tileSize * groupSize;
   const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
   const int groupsY = (bake.height + groupTexels - 1) / groupTexels;
@@ -370,8 +350,12 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
     return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::Archimedes, true);
   }
 
-  // Waves and grids: the local surface height above each texel centre, the texel taken as a
-  // patch under a locally level surface (the surface's slope over one texel is neglected).
+  // Surfaces with jets (waves): tiles against a local model of the surface (TextureHydrostaticsWaves.cpp).
+  if (traversal == TexelTraversal::Hierarchy)
+    if (std::optional<HydrostaticsResult> result = queryWaves(surface, q, sums.volumeScale)) return *result;
+
+  // Waves and grids, per texel: the local surface height above each texel centre, the texel taken
+  // as a patch under a locally level surface (the surface's slope over one texel is neglected).
   const Eigen::Vector3d centerOfMass = q.pose.apply(q.centerOfMass);
   const Eigen::Vector3d origin(t.x(), surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), q.time), t.z());
   if (!std::isfinite(origin.y())) return Error{"texture hydrostatics: the liquid surface height is not finite"};

@@ -7,6 +7,7 @@
 /// World frame, SI units, y up, gravity along -y (docs/design.md "Units and axes").
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -172,8 +173,15 @@ class GerstnerWaves final : public LiquidSurface {
   const std::vector<Component>& components() const { return components_; }
 
  private:
-  // The rest point (x0, z0) whose displaced position lies above (x, z); returns the height.
-  double restPoint(double x, double z, double time, double& x0, double& z0) const;
+  // The rest point whose displaced position lies above (x, z), with what the last Newton step
+  // evaluated there: the height, the Jacobian J of the displacement map and the gradient of the
+  // height in rest coordinates; and the phases' sines and cosines for the first kCachedWaves waves.
+  static constexpr std::size_t kCachedWaves = 8;
+  struct RestPoint {
+    double x0, z0, height, jxx, jxz, jzz, gx, gz;
+    double sine[kCachedWaves], cosine[kCachedWaves];
+  };
+  RestPoint restPoint(double x, double z, double time) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
