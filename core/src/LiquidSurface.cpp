@@ -71,7 +71,7 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
 
 double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
 
-GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time) const {
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -117,7 +117,7 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
     }
-    if (std::abs(stepX) + std::abs(stepZ) < kHorizontalTolerance) return p;
+    if (std::abs(stepX) + std::abs(stepZ) < tolerance) return p;
     if (iteration + 1 < kMaxIterations) {
       p.x0 -= stepX;
       p.z0 -= stepZ;
@@ -130,7 +130,7 @@ std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double ti
   // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
   // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
   // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
-  const RestPoint p = restPoint(x, z, time);
+  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance);
   SurfaceJet jet;
   jet.height = p.height;
   const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;

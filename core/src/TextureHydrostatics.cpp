@@ -109,7 +109,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
                        : std::max(1, int(std::lround(std::sqrt(double(bake.width)) / tileSize)));
   const int groupSize = out.groupSize_;
   out.surfaceSampleSpacing_ = settings.surfaceSampleSpacing;
-  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : 1e-2;
+  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : 3e-3;
   const int groupTexels = tileSize * groupSize;
   const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
   const int groupsY = (bake.height + groupTexels - 1) / groupTexels;
@@ -237,12 +237,26 @@ void TextureHydrostatics::refresh() {
       highD += slack;
       tile.boundsCenter = 0.5 * (lowD + highD);
       tile.boundsHalfExtent = 0.5 * (highD - lowD);
+      // The patch p + s eU + t eV lies within |p - c| + (|eU| + |eV|) / 2 of the centre c.
+      double radius = 0.0;
+      for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+        const Texel& texel = texels_[i];
+        const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
+        const Eigen::Vector3d u(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]);
+        const Eigen::Vector3d v(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]);
+        radius = std::max(radius, (p - tile.boundsCenter).norm() + 0.5 * (u.norm() + v.norm()));
+      }
+      tile.boundsRadius = std::min(radius * (1.0 + 1e-6), tile.boundsHalfExtent.norm());
       group.moments.add(tile.moments);
       groupLow = groupLow.cwiseMin(lowD);
       groupHigh = groupHigh.cwiseMax(highD);
     }
     group.boundsCenter = 0.5 * (groupLow + groupHigh);
     group.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
+    double groupRadius = 0.0;
+    for (std::uint32_t g = group.begin; g < group.end; ++g)
+      groupRadius = std::max(groupRadius, (tiles_[g].boundsCenter - group.boundsCenter).norm() + tiles_[g].boundsRadius);
+    group.boundsRadius = std::min(groupRadius * (1.0 + 1e-6), group.boundsHalfExtent.norm());
     total_.add(group.moments);
     bodyLow = bodyLow.cwiseMin(groupLow);
     bodyHigh = bodyHigh.cwiseMax(groupHigh);

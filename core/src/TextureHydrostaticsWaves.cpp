@@ -6,7 +6,8 @@
 /// interpolant of a few surface samples (SurfaceJetGrid), so the surface is asked a few dozen
 /// times per query instead of once per texel. Its error bound over the tile is
 ///   |eta - q| <= M3 rho^3 / 6 + e0 + e1 rho + e2 rho^2 / 2,
-/// rho the tile's horizontal half-diagonal, M3 the surface's third-derivative bound (Taylor's
+/// rho the footprint's radius about its centre (within the box's horizontal half-diagonal and the
+/// texels' bounding radius), M3 the surface's third-derivative bound (Taylor's
 /// remainder) and e0..e2 the interpolation's bounds on height, slope and curvature (hermiteError).
 /// With it the classification is conservative: a tile is wholly submerged only when its top lies
 /// under the model's lowest value over the footprint less the bound, dry only when its bottom
@@ -31,18 +32,6 @@ namespace {
 
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
-
-/// One texel under a level surface at `localHeight` (m, frame o) above its centre: the part of
-/// the patch under it and its depths (the texel's slope of the surface is neglected, as the
-/// per-texel path does).
-inline void addTexelUnderLevel(detail::WettedSums& sums, const Texel& texel, const detail::PosedTexel& w, double a,
-                               double b, double localHeight) {
-  const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
-  const double depth = localHeight - w.y;
-  if (!(depth > -halfSpan)) return;  // dry (or a NaN height)
-  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
-  sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
-}
 
 // Moments::sumPPA's index of the pair (i, j).
 constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
@@ -119,14 +108,16 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   const double highest = surface.heightRange(q.time).second - origin.y();
 
   // Samples over the body's horizontal footprint, as far apart as an interpolation error bound of
-  // a hundredth of the tolerance allows (s^4 = 384 e / (2 M4), hermiteError).
+  // a thirtieth of the tolerance allows (s^4 = 384 e / (2 M4), hermiteError): the curvature's
+  // share of a group's bound then stays under the tolerance (bench_hydrostatics: closer samples
+  // cost more surface evaluations than the groups they let through save).
   double lowX, highX, lowZ, highZ;
   detail::axisRange(boundsCenter_, boundsHalfExtent_, r, 0, offset.x(), lowX, highX);
   detail::axisRange(boundsCenter_, boundsHalfExtent_, r, 2, offset.z(), lowZ, highZ);
   const double tolerance = surfaceModelTolerance_;
   double spacing = surfaceSampleSpacing_;
   if (!(spacing > 0.0))
-    spacing = smooth->fourth > 0.0 ? std::pow(384.0 * 0.01 * tolerance / (2.0 * smooth->fourth), 0.25) : INFINITY;
+    spacing = smooth->fourth > 0.0 ? std::pow(384.0 * tolerance / 30.0 / (2.0 * smooth->fourth), 0.25) : INFINITY;
   spacing = std::min(spacing, std::max(highX - lowX, highZ - lowZ));
   detail::SurfaceJetGrid grid(surface, q.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ, spacing);
   const detail::HermiteError interpolation = detail::hermiteError(grid.spacing(), smooth->fourth);
@@ -165,15 +156,16 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   };
   // The footprint of a body-frame box: centre (local x, z) and horizontal reaches.
   struct Footprint {
-    double x, z, reachX, reachZ;
+    double x, z, reachX, reachZ, radius;  // radius: of the disc about (x, z) that holds it
   };
   auto footprint = [&](const Tile& box) {
-    return Footprint{xRow.dot(box.boundsCenter) + offset.x(), zRow.dot(box.boundsCenter) + offset.z(),
-                     xRow.cwiseAbs().dot(box.boundsHalfExtent), zRow.cwiseAbs().dot(box.boundsHalfExtent)};
+    const double reachX = xRow.cwiseAbs().dot(box.boundsHalfExtent), reachZ = zRow.cwiseAbs().dot(box.boundsHalfExtent);
+    return Footprint{xRow.dot(box.boundsCenter) + offset.x(), zRow.dot(box.boundsCenter) + offset.z(), reachX, reachZ,
+                     std::min(std::sqrt(reachX * reachX + reachZ * reachZ), box.boundsRadius)};
   };
   // The model over a footprint; false when its bound exceeds the tolerance or a sample is missing.
   auto modelOver = [&](const Footprint& f, Model& model) {
-    const double rho = std::sqrt(f.reachX * f.reachX + f.reachZ * f.reachZ);
+    const double rho = f.radius;
     model.bound = smooth->third * rho * rho * rho / 6.0 + interpolation.height + interpolation.slope * rho +
                   0.5 * interpolation.curvature * rho * rho;
     if (!(model.bound <= tolerance) || !grid.interpolate(f.x, f.z, model.jet)) return false;
@@ -196,20 +188,33 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     wave.add(m, c, model.h, d, e, yRow);
     under.add(m);
   };
-  // The texels of a tile, with the model's heights or (no model) the surface's own.
+  // The texels of a tile, with the model's heights or (model null) the surface's own. The height
+  // needs only the texel's position: a dry texel costs no more. The pose and the model are
+  // copied to locals so that the stores into the sums do not make the compiler reload them.
   auto addTexels = [&](const Tile& tile, const Model* model) {
+    const double x0 = xRow.x(), x1 = xRow.y(), x2 = xRow.z(), y0 = yRow.x(), y1 = yRow.y(), y2 = yRow.z();
+    const double z0 = zRow.x(), z1 = zRow.y(), z2 = zRow.z();
+    const double bx = offset.x(), by = offset.y(), bz = offset.z();
+    const Model m = model ? *model : Model{};
+    detail::WettedSums local;  // this tile's texels, added to the query's sums at the end
     for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
       const Texel& texel = texels_[i];
-      double a, b;
-      detail::verticalEdges(texel, r, a, b);
-      const detail::PosedTexel w = detail::pose(texel, r, offset);
-      if (model) {
-        addTexelUnderLevel(sums, texel, w, a, b, model->at(w.x, w.z));
-      } else if (w.y - 0.5 * (std::abs(a) + std::abs(b)) < highest) {
-        addTexelUnderLevel(sums, texel, w, a, b,
-                           surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time) - origin.y());
-      }
+      const double a = y0 * texel.edgeU[0] + y1 * texel.edgeU[1] + y2 * texel.edgeU[2];
+      const double b = y0 * texel.edgeV[0] + y1 * texel.edgeV[1] + y2 * texel.edgeV[2];
+      const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
+      const double y = y0 * px + y1 * py + y2 * pz + by;
+      if (!model && y - halfSpan >= highest) continue;
+      const double x = x0 * px + x1 * py + x2 * pz + bx;
+      const double z = z0 * px + z1 * py + z2 * pz + bz;
+      const double height = model ? m.at(x, z) : surface.surfaceHeight(x + origin.x(), z + origin.z(), q.time) - origin.y();
+      if (!(height - y > -halfSpan)) continue;  // dry (or a NaN height)
+      const detail::WaterlineFractions f = detail::waterlineFractions(height - y, a, b);
+      const double ax = texel.areaVector[0], ay = texel.areaVector[1], az = texel.areaVector[2];
+      local.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
+                       texel.area, f.area, f.depth, f.depthSq, height);
     }
+    sums.add(local);
   };
 
   for (const Tile& group : groups_) {
@@ -220,10 +225,10 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     if (modelOver(footprint(group), groupModel)) {
       // One model for the whole group; O(1) when the group is wholly under or over it.
       const Footprint f = footprint(group);
-      double modelLow, modelHigh;
-      groupModel.range(f.x, f.z, f.reachX, f.reachZ, modelLow, modelHigh);
-      if (low >= modelHigh) continue;
-      if (high <= modelLow) {
+      double groupLow, groupHigh;
+      groupModel.range(f.x, f.z, f.reachX, f.reachZ, groupLow, groupHigh);
+      if (low >= groupHigh) continue;
+      if (high <= groupLow) {
         addWave(group.moments, group.boundsCenter, groupModel);
         continue;
       }
@@ -232,10 +237,17 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
         const Tile& tile = tiles_[g];
         detail::verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
         if (low >= highest) continue;
+        // Against the group's band first (cheap), then against the model over the tile alone.
+        if (low >= groupHigh) continue;
+        if (high <= groupLow) {
+          submerged.add(tile.moments);
+          continue;
+        }
         const Footprint tileFootprint = footprint(tile);
-        groupModel.range(tileFootprint.x, tileFootprint.z, tileFootprint.reachX, tileFootprint.reachZ, modelLow, modelHigh);
-        if (low >= modelHigh) continue;
-        if (high <= modelLow) {
+        double tileLow, tileHigh;
+        groupModel.range(tileFootprint.x, tileFootprint.z, tileFootprint.reachX, tileFootprint.reachZ, tileLow, tileHigh);
+        if (low >= tileHigh) continue;
+        if (high <= tileLow) {
           submerged.add(tile.moments);
           continue;
         }

@@ -134,13 +134,18 @@ class GerstnerWaves final : public LiquidSurface {
 
   /// Horizontal tolerance (m) of the search for the rest point in surfaceHeight().
   static constexpr double kHorizontalTolerance = 1e-9;
+  /// Horizontal tolerance (m) of the search in heightJet(): its height error, at most
+  /// sum(k A) * 1e-7, is far under what interpolating jets costs (SurfaceJetGrid), and Newton
+  /// saves one step of the search.
+  static constexpr double kJetHorizontalTolerance = 1e-7;
 
   /// Surface height (m) above (x, z) at `time` (s).
   double surfaceHeight(double x, double z, double time) const override;
   /// {mean - sum A, mean + sum A} (m).
   std::pair<double, double> heightRange(double time) const override;
   /// Height, slopes and curvatures above (x, z) (m, 1, 1/m): the rest point by the same search as
-  /// surfaceHeight(), then implicit differentiation of the displacement map.
+  /// surfaceHeight() to kJetHorizontalTolerance, then implicit differentiation of the
+  /// displacement map.
   std::optional<SurfaceJet> heightJet(double x, double z, double time) const override;
   /// Bounds of the third and fourth directional derivatives of the height (1/m^2, 1/m^3) from
   /// sums of A k^n and Q A k^n over the waves; empty when sum Q k A >= 1 (crests may loop).
@@ -181,7 +186,7 @@ class GerstnerWaves final : public LiquidSurface {
     double x0, z0, height, jxx, jxz, jzz, gx, gz;
     double sine[kCachedWaves], cosine[kCachedWaves];
   };
-  RestPoint restPoint(double x, double z, double time) const;
+  RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;

@@ -42,7 +42,7 @@ struct TextureHydrostaticsSettings {
   int groupSize = 0;
   /// Under waves: distance (m) between the surface samples that the local models interpolate;
   /// 0 picks it from the surface's smoothness so that the interpolation's error bound on the
-  /// height is a hundredth of surfaceModelTolerance (at most 40 samples per side).
+  /// height is a thirtieth of surfaceModelTolerance (at most 40 samples per side).
   double surfaceSampleSpacing = 0.0;
   /// Under waves: the largest pointwise error bound (m) allowed to a local surface model. A group
   /// of tiles takes one model when its bound is within this, else each of its tiles takes its
@@ -116,6 +116,9 @@ class TextureHydrostatics {
     Moments moments;                      ///< of its texels
     Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();       ///< m, body frame
     Eigen::Vector3d boundsHalfExtent = Eigen::Vector3d::Zero();   ///< m, body frame
+    /// m: every texel patch lies within this distance of boundsCenter (at most the box's
+    /// half-diagonal; the reach of a local surface model about the centre, waves)
+    double boundsRadius = 0.0;
   };
 
  private:
