@@ -113,7 +113,17 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   const int groupTexels = tileSize * groupSize;
   const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
   const int groupsY = (bake.height + groupTexels - 1) / groupTexels;
-  const std::size_t tilesPerGroup = std::size_t(groupSize) * std::size_t(groupSize);
+  // Tiles within a group in Morton (Z) order, so that every aligned 2 x 2 tiles form a contiguous
+  // block: the middle level that the waves hierarchy models when a whole group is too large.
+  int mortonSide = 1;
+  while (mortonSide < groupSize) mortonSide *= 2;
+  const std::size_t tilesPerGroup = std::size_t(mortonSide) * std::size_t(mortonSide);
+  auto morton = [](int row, int column) {
+    std::size_t code = 0;
+    for (int bit = 0; bit < 16; ++bit)
+      code |= (std::size_t((row >> bit) & 1) << (2 * bit + 1)) | (std::size_t((column >> bit) & 1) << (2 * bit));
+    return code;
+  };
 
   // Counting sort of the texels by (group, tile within the group), so that both are contiguous
   // (the bake's own tile size may differ).
@@ -125,7 +135,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     if (row >= bake.height) return Error{"texture hydrostatics: bake texel " + std::to_string(i) + " lies outside the image"};
     const int tileRow = row / tileSize, tileColumn = column / tileSize;
     const std::size_t group = std::size_t((tileRow / groupSize) * groupsX + tileColumn / groupSize);
-    tileOf[i] = std::uint32_t(group * tilesPerGroup + std::size_t((tileRow % groupSize) * groupSize + tileColumn % groupSize));
+    tileOf[i] = std::uint32_t(group * tilesPerGroup + morton(tileRow % groupSize, tileColumn % groupSize));
     ++tileCount[tileOf[i] + 1];
   }
   for (std::size_t t = 1; t < tileCount.size(); ++t) tileCount[t] += tileCount[t - 1];
@@ -147,23 +157,33 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   out.height_ = bake.height;
 
   // Tiles and groups (texel and tile ranges); their moments and bounds come from refresh().
-  std::size_t lastGroup = 0;
+  std::size_t lastGroup = 0, lastBlock = 0;
   for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
     if (tileCount[t] == tileCount[t + 1]) continue;
     Tile tile;
     tile.begin = tileCount[t];
     tile.end = tileCount[t + 1];
-    // A new group starts at the first tile of another group index.
-    const std::size_t group = t / tilesPerGroup;
+    // A new group starts at the first tile of another group index, a new block at the first
+    // tile of another block (4 Morton codes) or group.
+    const std::size_t group = t / tilesPerGroup, block = t / 4;
     if (out.groups_.empty() || group != lastGroup) {
       Tile first;
       first.begin = first.end = std::uint32_t(out.tiles_.size());
       out.groups_.push_back(first);
+      out.groupBlocks_.push_back(std::uint32_t(out.blocks_.size()));
       lastGroup = group;
     }
+    if (out.blocks_.empty() || block != lastBlock || out.groups_.back().begin == out.tiles_.size()) {
+      Tile first;
+      first.begin = first.end = std::uint32_t(out.tiles_.size());
+      out.blocks_.push_back(first);
+      lastBlock = block;
+    }
     out.groups_.back().end = std::uint32_t(out.tiles_.size() + 1);
+    out.blocks_.back().end = std::uint32_t(out.tiles_.size() + 1);
     out.tiles_.push_back(tile);
   }
+  out.groupBlocks_.push_back(std::uint32_t(out.blocks_.size()));
   if (out.tiles_.empty()) return Error{"texture hydrostatics: the bake covers no texel"};
   out.refresh();
   return out;
@@ -260,6 +280,23 @@ void TextureHydrostatics::refresh() {
     total_.add(group.moments);
     bodyLow = bodyLow.cwiseMin(groupLow);
     bodyHigh = bodyHigh.cwiseMax(groupHigh);
+  }
+  // Blocks of 2 x 2 tiles: moments and bounds from their tiles.
+  for (Tile& block : blocks_) {
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
+    block.moments = Moments{};
+    for (std::uint32_t g = block.begin; g < block.end; ++g) {
+      const Tile& tile = tiles_[g];
+      block.moments.add(tile.moments);
+      low = low.cwiseMin(tile.boundsCenter - tile.boundsHalfExtent);
+      high = high.cwiseMax(tile.boundsCenter + tile.boundsHalfExtent);
+    }
+    block.boundsCenter = 0.5 * (low + high);
+    block.boundsHalfExtent = 0.5 * (high - low);
+    double radius = 0.0;
+    for (std::uint32_t g = block.begin; g < block.end; ++g)
+      radius = std::max(radius, (tiles_[g].boundsCenter - block.boundsCenter).norm() + tiles_[g].boundsRadius);
+    block.boundsRadius = std::min(radius * (1.0 + 1e-6), block.boundsHalfExtent.norm());
   }
   boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
   boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);

@@ -217,64 +217,72 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     sums.add(local);
   };
 
-  for (const Tile& group : groups_) {
+  // A unit (a group, a block or a tile, holding the tiles [firstTile, lastTile)) under one model:
+  // O(1) when wholly under or over it, else its tiles against the unit's band (cheap), then
+  // against the model over each tile alone.
+  auto addUnder = [&](const Tile& unit, std::uint32_t firstTile, std::uint32_t lastTile, const Footprint& f,
+                      const Model& model, double low, double high) {
+    double unitLow, unitHigh;
+    model.range(f.x, f.z, f.reachX, f.reachZ, unitLow, unitHigh);
+    if (low >= unitHigh) return;
+    if (high <= unitLow) {
+      addWave(unit.moments, unit.boundsCenter, model);
+      return;
+    }
+    Moments submerged;
+    for (std::uint32_t g = firstTile; g < lastTile; ++g) {
+      const Tile& tile = tiles_[g];
+      detail::verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
+      if (low >= highest || low >= unitHigh) continue;
+      if (high <= unitLow) {
+        submerged.add(tile.moments);
+        continue;
+      }
+      const Footprint tileFootprint = footprint(tile);
+      double tileLow, tileHigh;
+      model.range(tileFootprint.x, tileFootprint.z, tileFootprint.reachX, tileFootprint.reachZ, tileLow, tileHigh);
+      if (low >= tileHigh) continue;
+      if (high <= tileLow) {
+        submerged.add(tile.moments);
+        continue;
+      }
+      addTexels(tile, &model);
+    }
+    addWave(submerged, unit.boundsCenter, model);
+  };
+
+  // The largest unit whose model's bound is within the tolerance: the group, else its blocks of
+  // 2 x 2 tiles, else its tiles, else the surface per texel.
+  for (std::size_t groupIndex = 0; groupIndex < groups_.size(); ++groupIndex) {
+    const Tile& group = groups_[groupIndex];
     double low, high;
     detail::verticalRange(group.boundsCenter, group.boundsHalfExtent, r, offset.y(), low, high);
     if (low >= highest) continue;
-    Model groupModel;
-    if (modelOver(footprint(group), groupModel)) {
-      // One model for the whole group; O(1) when the group is wholly under or over it.
-      const Footprint f = footprint(group);
-      double groupLow, groupHigh;
-      groupModel.range(f.x, f.z, f.reachX, f.reachZ, groupLow, groupHigh);
-      if (low >= groupHigh) continue;
-      if (high <= groupLow) {
-        addWave(group.moments, group.boundsCenter, groupModel);
+    Model model;
+    const Footprint groupFootprint = footprint(group);
+    if (modelOver(groupFootprint, model)) {
+      addUnder(group, group.begin, group.end, groupFootprint, model, low, high);
+      continue;
+    }
+    for (std::uint32_t k = groupBlocks_[groupIndex]; k < groupBlocks_[groupIndex + 1]; ++k) {
+      const Tile& block = blocks_[k];
+      detail::verticalRange(block.boundsCenter, block.boundsHalfExtent, r, offset.y(), low, high);
+      if (low >= highest) continue;
+      const Footprint blockFootprint = footprint(block);
+      if (modelOver(blockFootprint, model)) {
+        addUnder(block, block.begin, block.end, blockFootprint, model, low, high);
         continue;
       }
-      Moments submerged;
-      for (std::uint32_t g = group.begin; g < group.end; ++g) {
+      for (std::uint32_t g = block.begin; g < block.end; ++g) {
         const Tile& tile = tiles_[g];
         detail::verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
         if (low >= highest) continue;
-        // Against the group's band first (cheap), then against the model over the tile alone.
-        if (low >= groupHigh) continue;
-        if (high <= groupLow) {
-          submerged.add(tile.moments);
-          continue;
-        }
         const Footprint tileFootprint = footprint(tile);
-        double tileLow, tileHigh;
-        groupModel.range(tileFootprint.x, tileFootprint.z, tileFootprint.reachX, tileFootprint.reachZ, tileLow, tileHigh);
-        if (low >= tileHigh) continue;
-        if (high <= tileLow) {
-          submerged.add(tile.moments);
-          continue;
-        }
-        addTexels(tile, &groupModel);
+        if (modelOver(tileFootprint, model))
+          addUnder(tile, g, g + 1, tileFootprint, model, low, high);
+        else
+          addTexels(tile, nullptr);
       }
-      addWave(submerged, group.boundsCenter, groupModel);
-      continue;
-    }
-    // The group is too large for one model: a model per tile, or the surface per texel.
-    for (std::uint32_t g = group.begin; g < group.end; ++g) {
-      const Tile& tile = tiles_[g];
-      detail::verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
-      if (low >= highest) continue;
-      Model tileModel;
-      const Footprint tileFootprint = footprint(tile);
-      if (!modelOver(tileFootprint, tileModel)) {
-        addTexels(tile, nullptr);
-        continue;
-      }
-      double modelLow, modelHigh;
-      tileModel.range(tileFootprint.x, tileFootprint.z, tileFootprint.reachX, tileFootprint.reachZ, modelLow, modelHigh);
-      if (low >= modelHigh) continue;
-      if (high <= modelLow) {
-        addWave(tile.moments, tile.boundsCenter, tileModel);
-        continue;
-      }
-      addTexels(tile, &tileModel);
     }
   }
 

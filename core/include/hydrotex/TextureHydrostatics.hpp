@@ -133,6 +133,8 @@ class TextureHydrostatics {
   bool valid_ = true;                  // false after a failed update
   std::vector<Tile> tiles_;
   std::vector<Tile> groups_;
+  std::vector<Tile> blocks_;                 // 2 x 2 tiles (Morton order within a group): tile ranges
+  std::vector<std::uint32_t> groupBlocks_;   // per group, its first block; one past the last at the end
   Moments total_;
   Eigen::Vector3d boundsCenter_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d boundsHalfExtent_ = Eigen::Vector3d::Zero();
