@@ -71,7 +71,20 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
 
 double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
 
-GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance) const {
+namespace {
+// sin and cos of a small angle |a| <= kRotationLimit by their Taylor series to a^13 and a^12
+// (truncation under 1e-15): a Newton step moves each phase by little, so the search for a jet
+// turns the last sines and cosines by the step instead of calling sin and cos again.
+constexpr double kRotationLimit = 0.5;
+void smallSineCosine(double a, double& sine, double& cosine) {
+  const double a2 = a * a;
+  sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 + a2 * (-1.0 / 39916800 + a2 / 6227020800.0))))));
+  cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600.0)))));
+}
+}  // namespace
+
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
+                                                  bool turnPhases) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -82,12 +95,24 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
   RestPoint p{};
   p.x0 = x;
   p.z0 = z;
+  turnPhases = turnPhases && components_.size() <= kCachedWaves;
+  double stepX = 0.0, stepZ = 0.0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
     for (std::size_t w = 0; w < components_.size(); ++w) {
       const Component& c = components_[w];
-      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
-      const double sine = std::sin(theta), cosine = std::cos(theta);
+      double sine, cosine;
+      const double turn = iteration > 0 && turnPhases ? -c.waveNumber * (c.dirX * stepX + c.dirZ * stepZ) : INFINITY;
+      if (std::abs(turn) <= kRotationLimit) {
+        double s, co;
+        smallSineCosine(turn, s, co);
+        sine = p.sine[w] * co + p.cosine[w] * s;
+        cosine = p.cosine[w] * co - p.sine[w] * s;
+      } else {
+        const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+        sine = std::sin(theta);
+        cosine = std::cos(theta);
+      }
       if (w < kCachedWaves) {
         p.sine[w] = sine;
         p.cosine[w] = cosine;
@@ -112,7 +137,8 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
     p.gz = gz;
     const double rx = p.x0 + hx - x, rz = p.z0 + hz - z;
     const double determinant = jxx * jzz - jxz * jxz;
-    double stepX = rx, stepZ = rz;
+    stepX = rx;
+    stepZ = rz;
     if (determinant > kMinDeterminant) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
@@ -130,7 +156,7 @@ std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double ti
   // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
   // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
   // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
-  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance);
+  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance, true);
   SurfaceJet jet;
   jet.height = p.height;
   const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;

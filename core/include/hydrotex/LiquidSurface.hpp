@@ -186,7 +186,10 @@ class GerstnerWaves final : public LiquidSurface {
     double x0, z0, height, jxx, jxz, jzz, gx, gz;
     double sine[kCachedWaves], cosine[kCachedWaves];
   };
-  RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance) const;
+  // turnPhases: after the first evaluation, turn the sines and cosines by each step instead of
+  // calling sin and cos (heightJet: ~1e-16 apart; surfaceHeight keeps the calls, bit for bit).
+  RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
+                      bool turnPhases = false) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
