@@ -1,23 +1,27 @@
 // SPDX-License-Identifier: Zlib
 /// @file TextureHydrostaticsWaves.cpp
-/// The tile hierarchy under a free surface that is not flat (issue 19 item 1): a tile is
-/// classified against a local quadratic model of the surface over its footprint, not against a
-/// plane. The model is the second-order Taylor expansion at the tile's centre of a bicubic Hermite
-/// interpolant of a few surface samples (SurfaceJetGrid), so the surface is asked a few dozen
-/// times per query instead of once per texel. Its error bound over the tile is
+/// The tile hierarchy under a free surface that is not flat (issue 19 item 1): a unit of texels
+/// (a group, a block of 2 x 2 tiles or a tile: the largest whose bound below is within the
+/// tolerance) is classified against a local quadratic model of the surface over its footprint,
+/// not against a plane. The model is the second-order Taylor expansion at the unit's centre of a
+/// bicubic Hermite interpolant of a few surface samples (SurfaceJetGrid), so the surface is asked
+/// a few dozen times per query instead of once per texel. Its error bound over the unit is
 ///   |eta - q| <= M3 rho^3 / 6 + e0 + e1 rho + e2 rho^2 / 2,
 /// rho the footprint's radius about its centre (within the box's horizontal half-diagonal and the
-/// texels' bounding radius), M3 the surface's third-derivative bound (Taylor's
-/// remainder) and e0..e2 the interpolation's bounds on height, slope and curvature (hermiteError).
-/// With it the classification is conservative: a tile is wholly submerged only when its top lies
-/// under the model's lowest value over the footprint less the bound, dry only when its bottom
-/// lies over the highest plus the bound. A wholly submerged tile adds its moments (the flat part,
-/// depth -y', transformed once for all tiles as the flat hierarchy does) and the moments weighted
-/// by the model (the wave part): with p = rho g (q - y') every sum that is linear in q follows
-/// from the moments sum A, sum p A, sum p p A; the first-moment sums (torque, centre of buoyancy)
-/// take the quadratic term at the tile's centre (an O(rho^3) error, within the bound's order).
-/// Crossed tiles go texel by texel with the model's height; tiles whose bound exceeds the
-/// tolerance go texel by texel with the surface's own height, which is the per-texel answer.
+/// texels' bounding radius), M3 the surface's third-derivative bound (Taylor's remainder) and
+/// e0..e2 the interpolation's bounds on height, slope and curvature (hermiteError).
+/// With it the classification is conservative: a unit or tile is wholly submerged only when its
+/// top lies under the model's lowest value over its footprint less the bound, dry only when its
+/// bottom lies over the highest plus the bound; then every texel is so in the per-texel answer
+/// too. Wholly submerged tiles add their moments (the flat part, depth -y', transformed once for
+/// all tiles as the flat hierarchy does) and the moments weighted by the model (the wave part):
+/// with p = rho g (q - y') every sum that is linear in q follows from the moments sum A, sum p A,
+/// sum p p A; the first-moment sums (torque, centre of buoyancy) take the quadratic term at the
+/// unit's centre (an O(rho^3) error, within the bound's order). Crossed tiles go texel by texel
+/// with the model's height; tiles whose own bound still exceeds the tolerance go texel by texel
+/// with the surface's own height, which is the per-texel answer. The sums' difference from the
+/// per-texel answer is far under bound x area: the model's error changes sign over a unit and over
+/// the body (test_texture_hydrostatics_waves measures it).
 
 #include <cmath>
 
