@@ -65,6 +65,26 @@ struct WettedSums {
     wettedArea += frac * area;
   }
 
+  /// Adds another set of sums (the same frame and volume scale).
+  inline void add(const WettedSums& o) {
+    for (int k = 0; k < 3; ++k) {
+      sumDA[k] += o.sumDA[k];
+      sumDxA[k] += o.sumDxA[k];
+      pressureForce[k] += o.pressureForce[k];
+      pressureTorque[k] += o.pressureTorque[k];
+    }
+    sumDXAy += o.sumDXAy;
+    sumDZAy += o.sumDZAy;
+    sumYB += o.sumYB;
+    sumAy += o.sumAy;
+    sumXAy += o.sumXAy;
+    sumZAy += o.sumZAy;
+    sumXXAy += o.sumXXAy;
+    sumXZAy += o.sumXZAy;
+    sumZZAy += o.sumZZAy;
+    wettedArea += o.wettedArea;
+  }
+
   /// Adds a set of wholly submerged elements under a flat surface at o_y, given their body-frame
   /// moments, the rotation and the body origin's position relative to o (x' = R p + offset).
   void addSubmergedMoments(const TextureHydrostatics::Moments& moments, const Eigen::Matrix3d& rotation,

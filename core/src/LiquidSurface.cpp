@@ -35,6 +35,12 @@ std::pair<double, double> LiquidSurface::heightRange(double /*time*/) const {
 
 double LiquidSurface::densityAt(const Eigen::Vector3d& /*worldPoint*/) const { return density(); }
 
+std::optional<SurfaceJet> LiquidSurface::heightJet(double /*x*/, double /*z*/, double /*time*/) const {
+  return std::nullopt;
+}
+
+std::optional<SurfaceSmoothness> LiquidSurface::smoothness(double /*time*/) const { return std::nullopt; }
+
 // ---- FlatSurface ------------------------------------------------------------------------------
 
 FlatSurface::FlatSurface(double height, double density) : height_(height), density_(density) {}
@@ -63,7 +69,22 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
   }
 }
 
-double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
+double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
+
+namespace {
+// sin and cos of a small angle |a| <= kRotationLimit by their Taylor series to a^13 and a^12
+// (truncation under 1e-15): a Newton step moves each phase by little, so the search for a jet
+// turns the last sines and cosines by the step instead of calling sin and cos again.
+constexpr double kRotationLimit = 0.5;
+void smallSineCosine(double a, double& sine, double& cosine) {
+  const double a2 = a * a;
+  sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 + a2 * (-1.0 / 39916800 + a2 / 6227020800.0))))));
+  cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600.0)))));
+}
+}  // namespace
+
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
+                                                  bool turnPhases) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -71,13 +92,31 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
   // within one (sub-tolerance) step of the solution.
   constexpr int kMaxIterations = 24;
   constexpr double kMinDeterminant = 0.1;
-  double x0 = x, z0 = z, height = 0.0;
+  RestPoint p{};
+  p.x0 = x;
+  p.z0 = z;
+  turnPhases = turnPhases && components_.size() <= kCachedWaves;
+  double stepX = 0.0, stepZ = 0.0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
-    height = 0.0;
-    for (const Component& c : components_) {
-      const double theta = c.waveNumber * (c.dirX * x0 + c.dirZ * z0) - c.omega * time + c.phase;
-      const double sine = std::sin(theta), cosine = std::cos(theta);
+    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
+    for (std::size_t w = 0; w < components_.size(); ++w) {
+      const Component& c = components_[w];
+      double sine, cosine;
+      const double turn = iteration > 0 && turnPhases ? -c.waveNumber * (c.dirX * stepX + c.dirZ * stepZ) : INFINITY;
+      if (std::abs(turn) <= kRotationLimit) {
+        double s, co;
+        smallSineCosine(turn, s, co);
+        sine = p.sine[w] * co + p.cosine[w] * s;
+        cosine = p.cosine[w] * co - p.sine[w] * s;
+      } else {
+        const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+        sine = std::sin(theta);
+        cosine = std::cos(theta);
+      }
+      if (w < kCachedWaves) {
+        p.sine[w] = sine;
+        p.cosine[w] = cosine;
+      }
       const double horizontal = c.steepness * c.amplitude;
       hx -= horizontal * sine * c.dirX;
       hz -= horizontal * sine * c.dirZ;
@@ -86,19 +125,92 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
       jxx -= slope * c.dirX * c.dirX;
       jxz -= slope * c.dirX * c.dirZ;
       jzz -= slope * c.dirZ * c.dirZ;
+      const double rise = -c.amplitude * c.waveNumber * sine;
+      gx += rise * c.dirX;
+      gz += rise * c.dirZ;
     }
-    const double rx = x0 + hx - x, rz = z0 + hz - z;
+    p.height = meanLevel_ + height;
+    p.jxx = jxx;
+    p.jxz = jxz;
+    p.jzz = jzz;
+    p.gx = gx;
+    p.gz = gz;
+    const double rx = p.x0 + hx - x, rz = p.z0 + hz - z;
     const double determinant = jxx * jzz - jxz * jxz;
-    double stepX = rx, stepZ = rz;
+    stepX = rx;
+    stepZ = rz;
     if (determinant > kMinDeterminant) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
     }
-    if (std::abs(stepX) + std::abs(stepZ) < kHorizontalTolerance) break;
-    x0 -= stepX;
-    z0 -= stepZ;
+    if (std::abs(stepX) + std::abs(stepZ) < tolerance) return p;
+    if (iteration + 1 < kMaxIterations) {
+      p.x0 -= stepX;
+      p.z0 -= stepZ;
+    }
   }
-  return meanLevel_ + height;
+  return p;  // not converged: the values of the last evaluated point
+}
+
+std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double time) const {
+  // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
+  // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
+  // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
+  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance, true);
+  SurfaceJet jet;
+  jet.height = p.height;
+  const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;
+  if (!(determinant > 0.0)) return std::nullopt;  // the displacement map folds here
+  const double ixx = p.jzz / determinant, ixz = -p.jxz / determinant, izz = p.jxx / determinant;
+  jet.slopeX = ixx * p.gx + ixz * p.gz;
+  jet.slopeZ = ixz * p.gx + izz * p.gz;
+  for (std::size_t w = 0; w < components_.size(); ++w) {
+    const Component& c = components_[w];
+    double sine, cosine;
+    if (w < kCachedWaves) {
+      sine = p.sine[w];
+      cosine = p.cosine[w];
+    } else {
+      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+      sine = std::sin(theta);
+      cosine = std::cos(theta);
+    }
+    const double k2 = c.amplitude * c.waveNumber * c.waveNumber;
+    const double weight = -k2 * cosine - c.steepness * k2 * sine * (jet.slopeX * c.dirX + jet.slopeZ * c.dirZ);
+    const double ex = ixx * c.dirX + ixz * c.dirZ, ez = ixz * c.dirX + izz * c.dirZ;
+    jet.curvatureXX += weight * ex * ex;
+    jet.curvatureXZ += weight * ex * ez;
+    jet.curvatureZZ += weight * ez * ez;
+  }
+  return jet;
+}
+
+std::optional<SurfaceSmoothness> GerstnerWaves::smoothness(double /*time*/) const {
+  // Along a line x = c + s e (|e| = 1) the rest point y(s) solves J(y) y' = e. With
+  // K_n = sum Q A k^n, S_n = sum A k^n and sigma = 1 - K_1 (J's smallest eigenvalue at worst),
+  // differentiating J y' = e up to three times bounds |y^(n)| by a_n below; the chain rule on
+  // eta0(y(s)) (|D^n eta0| <= S_n) then bounds the height's third and fourth derivatives.
+  double s[5] = {0, 0, 0, 0, 0}, k[5] = {0, 0, 0, 0, 0};
+  for (const Component& c : components_) {
+    double power = 1.0;
+    for (int n = 1; n <= 4; ++n) {
+      power *= c.waveNumber;
+      s[n] += std::abs(c.amplitude) * power;
+      k[n] += c.steepness * std::abs(c.amplitude) * power;
+    }
+  }
+  const double sigma = 1.0 - k[1];
+  if (!(sigma > 0.0)) return std::nullopt;
+  const double a1 = 1.0 / sigma;
+  const double a2 = k[2] * a1 * a1 / sigma;
+  const double a3 = (3.0 * k[2] * a1 * a2 + k[3] * a1 * a1 * a1) / sigma;
+  const double a4 = (3.0 * k[2] * a1 * a3 + 3.0 * (k[3] * a1 * a1 + k[2] * a2) * a2 +
+                     (k[4] * a1 * a1 * a1 + 3.0 * k[3] * a1 * a2 + k[2] * a3) * a1) / sigma;
+  SurfaceSmoothness out;
+  out.third = s[3] * a1 * a1 * a1 + 3.0 * s[2] * a1 * a2 + s[1] * a3;
+  out.fourth = s[4] * a1 * a1 * a1 * a1 + 6.0 * s[3] * a1 * a1 * a2 + 3.0 * s[2] * a2 * a2 +
+               4.0 * s[2] * a1 * a3 + s[1] * a4;
+  return out;
 }
 
 std::pair<double, double> GerstnerWaves::heightRange(double /*time*/) const {

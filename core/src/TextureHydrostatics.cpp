@@ -12,6 +12,7 @@
 #include <string>
 
 #include "HydrostaticSums.hpp"
+#include "TexelPosing.hpp"
 
 namespace hydrotex {
 
@@ -20,27 +21,10 @@ namespace {
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
 
-/// The world-frame quantities of one texel under a rigid pose: x' = R p + offset, A' = R A.
-struct PosedTexel {
-  double x, y, z, ax, ay, az;
-};
-
-inline PosedTexel pose(const Texel& t, const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
-  const double px = t.position[0], py = t.position[1], pz = t.position[2];
-  const double ax = t.areaVector[0], ay = t.areaVector[1], az = t.areaVector[2];
-  return {r(0, 0) * px + r(0, 1) * py + r(0, 2) * pz + offset.x(),
-          r(1, 0) * px + r(1, 1) * py + r(1, 2) * pz + offset.y(),
-          r(2, 0) * px + r(2, 1) * py + r(2, 2) * pz + offset.z(),
-          r(0, 0) * ax + r(0, 1) * ay + r(0, 2) * az,
-          r(1, 0) * ax + r(1, 1) * ay + r(1, 2) * az,
-          r(2, 0) * ax + r(2, 1) * ay + r(2, 2) * az};
-}
-
-/// Vertical extents of the texel's edges: a = |eU'.y|, b = |eV'.y|.
-inline void verticalEdges(const Texel& t, const Eigen::Matrix3d& r, double& a, double& b) {
-  a = r(1, 0) * t.edgeU[0] + r(1, 1) * t.edgeU[1] + r(1, 2) * t.edgeU[2];
-  b = r(1, 0) * t.edgeV[0] + r(1, 1) * t.edgeV[1] + r(1, 2) * t.edgeV[2];
-}
+using detail::PosedTexel;
+using detail::pose;
+using detail::verticalEdges;
+using detail::verticalRange;
 
 /// One texel under a flat surface at y' = 0 (depth of its centre d = -y').
 inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::Matrix3d& r,
@@ -53,16 +37,6 @@ inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::
   const PosedTexel w = pose(t, r, offset);
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
-}
-
-/// Vertical range of a body-frame box under the rotation's y row and a vertical offset.
-inline void verticalRange(const Eigen::Vector3d& center, const Eigen::Vector3d& halfExtent, const Eigen::Matrix3d& r,
-                          double offsetY, double& low, double& high) {
-  const double c = r(1, 0) * center.x() + r(1, 1) * center.y() + r(1, 2) * center.z() + offsetY;
-  const double h = std::abs(r(1, 0)) * halfExtent.x() + std::abs(r(1, 1)) * halfExtent.y() +
-                   std::abs(r(1, 2)) * halfExtent.z();
-  low = c - h;
-  high = c + h;
 }
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
@@ -119,6 +93,10 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     return Error{"texture hydrostatics: bake and textures differ in resolution"};
   if (settings.tileSize < 0) return Error{"texture hydrostatics: tile size " + std::to_string(settings.tileSize) + " is negative"};
   if (settings.groupSize < 0) return Error{"texture hydrostatics: group size " + std::to_string(settings.groupSize) + " is negative"};
+  if (!(settings.surfaceSampleSpacing >= 0.0) || !std::isfinite(settings.surfaceSampleSpacing))
+    return Error{"texture hydrostatics: surface sample spacing is negative or not finite"};
+  if (!(settings.surfaceModelTolerance >= 0.0) || !std::isfinite(settings.surfaceModelTolerance))
+    return Error{"texture hydrostatics: surface model tolerance is negative or not finite"};
 
   TextureHydrostatics out;
   // Tiles of 4 texels and groups of about sqrt(width) texels: the group loop grows as
@@ -130,10 +108,22 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
                        ? settings.groupSize
                        : std::max(1, int(std::lround(std::sqrt(double(bake.width)) / tileSize)));
   const int groupSize = out.groupSize_;
+  out.surfaceSampleSpacing_ = settings.surfaceSampleSpacing;
+  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : 3e-3;
   const int groupTexels = tileSize * groupSize;
   const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
   const int groupsY = (bake.height + groupTexels - 1) / groupTexels;
-  const std::size_t tilesPerGroup = std::size_t(groupSize) * std::size_t(groupSize);
+  // Tiles within a group in Morton (Z) order, so that every aligned 2 x 2 tiles form a contiguous
+  // block: the middle level that the waves hierarchy models when a whole group is too large.
+  int mortonSide = 1;
+  while (mortonSide < groupSize) mortonSide *= 2;
+  const std::size_t tilesPerGroup = std::size_t(mortonSide) * std::size_t(mortonSide);
+  auto morton = [](int row, int column) {
+    std::size_t code = 0;
+    for (int bit = 0; bit < 16; ++bit)
+      code |= (std::size_t((row >> bit) & 1) << (2 * bit + 1)) | (std::size_t((column >> bit) & 1) << (2 * bit));
+    return code;
+  };
 
   // Counting sort of the texels by (group, tile within the group), so that both are contiguous
   // (the bake's own tile size may differ).
@@ -145,7 +135,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     if (row >= bake.height) return Error{"texture hydrostatics: bake texel " + std::to_string(i) + " lies outside the image"};
     const int tileRow = row / tileSize, tileColumn = column / tileSize;
     const std::size_t group = std::size_t((tileRow / groupSize) * groupsX + tileColumn / groupSize);
-    tileOf[i] = std::uint32_t(group * tilesPerGroup + std::size_t((tileRow % groupSize) * groupSize + tileColumn % groupSize));
+    tileOf[i] = std::uint32_t(group * tilesPerGroup + morton(tileRow % groupSize, tileColumn % groupSize));
     ++tileCount[tileOf[i] + 1];
   }
   for (std::size_t t = 1; t < tileCount.size(); ++t) tileCount[t] += tileCount[t - 1];
@@ -167,23 +157,33 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   out.height_ = bake.height;
 
   // Tiles and groups (texel and tile ranges); their moments and bounds come from refresh().
-  std::size_t lastGroup = 0;
+  std::size_t lastGroup = 0, lastBlock = 0;
   for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
     if (tileCount[t] == tileCount[t + 1]) continue;
     Tile tile;
     tile.begin = tileCount[t];
     tile.end = tileCount[t + 1];
-    // A new group starts at the first tile of another group index.
-    const std::size_t group = t / tilesPerGroup;
+    // A new group starts at the first tile of another group index, a new block at the first
+    // tile of another block (4 Morton codes) or group.
+    const std::size_t group = t / tilesPerGroup, block = t / 4;
     if (out.groups_.empty() || group != lastGroup) {
       Tile first;
       first.begin = first.end = std::uint32_t(out.tiles_.size());
       out.groups_.push_back(first);
+      out.groupBlocks_.push_back(std::uint32_t(out.blocks_.size()));
       lastGroup = group;
     }
+    if (out.blocks_.empty() || block != lastBlock || out.groups_.back().begin == out.tiles_.size()) {
+      Tile first;
+      first.begin = first.end = std::uint32_t(out.tiles_.size());
+      out.blocks_.push_back(first);
+      lastBlock = block;
+    }
     out.groups_.back().end = std::uint32_t(out.tiles_.size() + 1);
+    out.blocks_.back().end = std::uint32_t(out.tiles_.size() + 1);
     out.tiles_.push_back(tile);
   }
+  out.groupBlocks_.push_back(std::uint32_t(out.blocks_.size()));
   if (out.tiles_.empty()) return Error{"texture hydrostatics: the bake covers no texel"};
   out.refresh();
   return out;
@@ -257,15 +257,46 @@ void TextureHydrostatics::refresh() {
       highD += slack;
       tile.boundsCenter = 0.5 * (lowD + highD);
       tile.boundsHalfExtent = 0.5 * (highD - lowD);
+      // The patch p + s eU + t eV lies within |p - c| + (|eU| + |eV|) / 2 of the centre c.
+      double radius = 0.0;
+      for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+        const Texel& texel = texels_[i];
+        const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
+        const Eigen::Vector3d u(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]);
+        const Eigen::Vector3d v(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]);
+        radius = std::max(radius, (p - tile.boundsCenter).norm() + 0.5 * (u.norm() + v.norm()));
+      }
+      tile.boundsRadius = std::min(radius * (1.0 + 1e-6), tile.boundsHalfExtent.norm());
       group.moments.add(tile.moments);
       groupLow = groupLow.cwiseMin(lowD);
       groupHigh = groupHigh.cwiseMax(highD);
     }
     group.boundsCenter = 0.5 * (groupLow + groupHigh);
     group.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
+    double groupRadius = 0.0;
+    for (std::uint32_t g = group.begin; g < group.end; ++g)
+      groupRadius = std::max(groupRadius, (tiles_[g].boundsCenter - group.boundsCenter).norm() + tiles_[g].boundsRadius);
+    group.boundsRadius = std::min(groupRadius * (1.0 + 1e-6), group.boundsHalfExtent.norm());
     total_.add(group.moments);
     bodyLow = bodyLow.cwiseMin(groupLow);
     bodyHigh = bodyHigh.cwiseMax(groupHigh);
+  }
+  // Blocks of 2 x 2 tiles: moments and bounds from their tiles.
+  for (Tile& block : blocks_) {
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(INFINITY), high = Eigen::Vector3d::Constant(-INFINITY);
+    block.moments = Moments{};
+    for (std::uint32_t g = block.begin; g < block.end; ++g) {
+      const Tile& tile = tiles_[g];
+      block.moments.add(tile.moments);
+      low = low.cwiseMin(tile.boundsCenter - tile.boundsHalfExtent);
+      high = high.cwiseMax(tile.boundsCenter + tile.boundsHalfExtent);
+    }
+    block.boundsCenter = 0.5 * (low + high);
+    block.boundsHalfExtent = 0.5 * (high - low);
+    double radius = 0.0;
+    for (std::uint32_t g = block.begin; g < block.end; ++g)
+      radius = std::max(radius, (tiles_[g].boundsCenter - block.boundsCenter).norm() + tiles_[g].boundsRadius);
+    block.boundsRadius = std::min(radius * (1.0 + 1e-6), block.boundsHalfExtent.norm());
   }
   boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
   boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);
@@ -370,8 +401,12 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
     return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::Archimedes, true);
   }
 
-  // Waves and grids: the local surface height above each texel centre, the texel taken as a
-  // patch under a locally level surface (the surface's slope over one texel is neglected).
+  // Surfaces with jets (waves): tiles against a local model of the surface (TextureHydrostaticsWaves.cpp).
+  if (traversal == TexelTraversal::Hierarchy)
+    if (std::optional<HydrostaticsResult> result = queryWaves(surface, q, sums.volumeScale)) return *result;
+
+  // Waves and grids, per texel: the local surface height above each texel centre, the texel taken
+  // as a patch under a locally level surface (the surface's slope over one texel is neglected).
   const Eigen::Vector3d centerOfMass = q.pose.apply(q.centerOfMass);
   const Eigen::Vector3d origin(t.x(), surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), q.time), t.z());
   if (!std::isfinite(origin.y())) return Error{"texture hydrostatics: the liquid surface height is not finite"};

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: Zlib
 // Hydrostatics speed (one core): texture path on a flat surface with the tile hierarchy and by
 // brute force, the exact polyhedral path per triangle, and the texture path under Gerstner waves
-// per texel. Prints a table and writes CSV (argv[1], default bench_hydrostatics.csv). Every figure
-// is the median over several runs of the mean time of a batch of queries.
+// (hierarchy, and per texel). Prints two tables and writes them as CSV (argv[1], default
+// bench_hydrostatics.csv, and the waves table beside it as *_waves.csv); `--waves` as argv[2]
+// runs the waves table alone. Every figure is the median over several runs of the mean time of a
+// batch of queries.
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -46,10 +50,95 @@ struct Row {
   double size, microseconds, perElementNanoseconds;
 };
 
+/// One row of the waves table: a 256^2 body under a sea against the same body in flat water.
+struct WavesRow {
+  std::string body, sea;
+  double flatMicroseconds, wavesMicroseconds, ratio, perTexelMicroseconds, largestVolumeDifference;
+};
+
+/// The hierarchy under waves (issue 19 item 1, goal: at most 2x the flat-water cost): flat and
+/// wavy queries timed in alternation, so that both see the same load on a shared machine, the
+/// ratio the median of the rounds' ratios; the per-texel answer (TexelTraversal::BruteForce)
+/// timed once; the largest volume difference from it over 24 poses and phases, of the body's
+/// volume.
+std::vector<WavesRow> wavesTable(int rounds) {
+  std::vector<std::pair<std::string, GerstnerWaves>> seas;
+  seas.push_back({"swell, 3 Gerstner", GerstnerWaves({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                                                      GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                                                      GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}})});
+  seas.push_back({"log_waves, 2 Gerstner", GerstnerWaves({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                                                          GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
+                                                         0.0, 1025.0)});
+  const std::vector<std::pair<std::string, Mesh>> bodies = {{"uv sphere r 1 m", primitives::uvSphere(1.0, 96, 48)},
+                                                            {"torus 1 m x 0.4 m", primitives::torus(1.0, 0.4, 64, 32)}};
+  std::vector<WavesRow> rows;
+  for (const auto& [bodyName, mesh] : bodies) {
+    BakeSettings settings;
+    settings.width = settings.height = 256;
+    const auto bake = bakeSurface(mesh, mesh.uv, settings);
+    if (!bake) return rows;
+    const SurfaceTextures textures = evaluateSurface(*bake, mesh, mesh.uv);
+    const auto body = TextureHydrostatics::build(*bake, textures);
+    if (!body) return rows;
+    const FlatSurface water(0.0);
+    HydrostaticsQuery query;  // at the origin, half submerged, t = 0
+    for (const auto& [seaName, waves] : seas) {
+      std::vector<double> flat, wavy, ratios;
+      for (int round = 0; round < rounds; ++round) {
+        flat.push_back(medianSecondsPerCall([&] { sink = sink + body->query(water, query)->submergedVolume; }, 3));
+        wavy.push_back(medianSecondsPerCall([&] { sink = sink + body->query(waves, query)->submergedVolume; }, 3));
+        ratios.push_back(wavy.back() / flat.back());
+      }
+      const double perTexel = medianSecondsPerCall(
+          [&] { sink = sink + body->query(waves, query, TexelTraversal::BruteForce)->submergedVolume; }, 3, 0.2);
+      double largest = 0.0;
+      std::mt19937 rng(11);
+      std::normal_distribution<double> normal(0.0, 1.0);
+      std::uniform_real_distribution<double> unit(-1.0, 1.0);
+      for (int i = 0; i < 24; ++i) {
+        HydrostaticsQuery posed;
+        posed.pose.rotation =
+            Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix();
+        posed.pose.translation = Eigen::Vector3d(3.0 * unit(rng), 0.9 * unit(rng), 3.0 * unit(rng));
+        posed.time = 5.0 + 5.0 * unit(rng);
+        const auto h = body->query(waves, posed), t = body->query(waves, posed, TexelTraversal::BruteForce);
+        if (h && t) largest = std::max(largest, std::abs(h->submergedVolume - t->submergedVolume) / body->enclosedVolume());
+      }
+      auto median = [](std::vector<double> values) {
+        std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+        return values[values.size() / 2];
+      };
+      rows.push_back({bodyName + " 256^2", seaName, median(flat) * 1e6, median(wavy) * 1e6, median(ratios),
+                      perTexel * 1e6, largest});
+    }
+  }
+  return rows;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string csvPath = argc > 1 ? argv[1] : "bench_hydrostatics.csv";
+  {
+    const std::vector<WavesRow> waves = wavesTable(9);
+    std::printf("%-24s %-22s %10s %10s %7s %5s %12s %14s\n", "body", "sea", "flat us", "waves us", "ratio", "goal",
+                "per-texel us", "max |dV|/V");
+    const std::string wavesPath = csvPath.substr(0, csvPath.rfind(".csv")) + "_waves.csv";
+    std::ofstream wavesCsv(wavesPath);
+    wavesCsv << "body,sea,flat_microseconds,waves_microseconds,ratio,goal,per_texel_microseconds,"
+                "largest_volume_difference\n";
+    for (const WavesRow& row : waves) {
+      std::printf("%-24s %-22s %10.1f %10.1f %7.2f %5.1f %12.1f %14.2e\n", row.body.c_str(), row.sea.c_str(),
+                  row.flatMicroseconds, row.wavesMicroseconds, row.ratio, 2.0, row.perTexelMicroseconds,
+                  row.largestVolumeDifference);
+      wavesCsv << row.body << ',' << row.sea << ',' << row.flatMicroseconds << ',' << row.wavesMicroseconds << ','
+               << row.ratio << ',' << 2.0 << ',' << row.perTexelMicroseconds << ',' << row.largestVolumeDifference
+               << '\n';
+    }
+    std::printf("wrote %s\n\n", wavesPath.c_str());
+    std::fflush(stdout);
+    if (argc > 2 && std::string(argv[2]) == "--waves") return 0;
+  }
   std::vector<Row> rows;
   std::printf("%-28s %-28s %12s %14s %16s\n", "benchmark", "configuration", "size", "us/query", "ns/element");
   auto report = [&](const Row& row) {

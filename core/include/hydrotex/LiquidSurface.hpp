@@ -7,6 +7,7 @@
 /// World frame, SI units, y up, gravity along -y (docs/design.md "Units and axes").
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -14,6 +15,26 @@
 #include "hydrotex/Expected.hpp"
 
 namespace hydrotex {
+
+/// The height of a free surface and its first and second horizontal derivatives at one point: the
+/// data of a local quadratic model h + g . u + u^T H u / 2, u the horizontal offset (m) from the
+/// point. The texture path's tile hierarchy under waves interpolates these between samples
+/// instead of asking the surface once per texel.
+struct SurfaceJet {
+  double height = 0.0;       ///< surfaceHeight (m)
+  double slopeX = 0.0;       ///< d height / dx (dimensionless)
+  double slopeZ = 0.0;       ///< d height / dz (dimensionless)
+  double curvatureXX = 0.0;  ///< d2 height / dx2 (1/m)
+  double curvatureXZ = 0.0;  ///< d2 height / dx dz (1/m)
+  double curvatureZZ = 0.0;  ///< d2 height / dz2 (1/m)
+};
+
+/// Bounds, over every horizontal point and direction, of the third and fourth directional
+/// derivatives of surfaceHeight at one time: what the error bounds of local models need.
+struct SurfaceSmoothness {
+  double third = 0.0;   ///< max |d3 height / ds3| (1/m^2)
+  double fourth = 0.0;  ///< max |d4 height / ds4| (1/m^3)
+};
 
 /// Query interface for the liquid. Implementations must be cheap and thread-safe for const calls:
 /// the texture path calls surfaceHeight() once per texel that may be wet.
@@ -50,6 +71,14 @@ class LiquidSurface {
   /// Bounds {lowest, highest} (m) of surfaceHeight() over every (x, z) at `time` (s). The texture
   /// path skips the texels above the highest without querying the surface. Default: unbounded.
   virtual std::pair<double, double> heightRange(double time) const;
+
+  /// Height, slopes and curvatures (see SurfaceJet) at the world point (x, z) at `time` (s); empty
+  /// when the surface does not offer them (then the texture path asks surfaceHeight per texel).
+  virtual std::optional<SurfaceJet> heightJet(double x, double z, double time) const;
+
+  /// Derivative bounds of surfaceHeight at `time` (s) (see SurfaceSmoothness); empty when the
+  /// surface has none (not smooth, or unknown). Needed beside heightJet for the tile hierarchy.
+  virtual std::optional<SurfaceSmoothness> smoothness(double time) const;
 
   /// One-line reason when the surface's parameters are unusable (non-positive density, NaN, ...).
   virtual Status validate() const = 0;
@@ -105,11 +134,22 @@ class GerstnerWaves final : public LiquidSurface {
 
   /// Horizontal tolerance (m) of the search for the rest point in surfaceHeight().
   static constexpr double kHorizontalTolerance = 1e-9;
+  /// Horizontal tolerance (m) of the search in heightJet(): its height error, at most
+  /// sum(k A) * 1e-7, is far under what interpolating jets costs (SurfaceJetGrid), and Newton
+  /// saves one step of the search.
+  static constexpr double kJetHorizontalTolerance = 1e-7;
 
   /// Surface height (m) above (x, z) at `time` (s).
   double surfaceHeight(double x, double z, double time) const override;
   /// {mean - sum A, mean + sum A} (m).
   std::pair<double, double> heightRange(double time) const override;
+  /// Height, slopes and curvatures above (x, z) (m, 1, 1/m): the rest point by the same search as
+  /// surfaceHeight() to kJetHorizontalTolerance, then implicit differentiation of the
+  /// displacement map.
+  std::optional<SurfaceJet> heightJet(double x, double z, double time) const override;
+  /// Bounds of the third and fourth directional derivatives of the height (1/m^2, 1/m^3) from
+  /// sums of A k^n and Q A k^n over the waves; empty when sum Q k A >= 1 (crests may loop).
+  std::optional<SurfaceSmoothness> smoothness(double time) const override;
   /// Orbital velocity of the liquid particle at the surface above the point, decaying as
   /// exp(k (y - surface)) with depth (linear wave theory); zero above the surface.
   Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
@@ -138,6 +178,18 @@ class GerstnerWaves final : public LiquidSurface {
   const std::vector<Component>& components() const { return components_; }
 
  private:
+  // The rest point whose displaced position lies above (x, z), with what the last Newton step
+  // evaluated there: the height, the Jacobian J of the displacement map and the gradient of the
+  // height in rest coordinates; and the phases' sines and cosines for the first kCachedWaves waves.
+  static constexpr std::size_t kCachedWaves = 8;
+  struct RestPoint {
+    double x0, z0, height, jxx, jxz, jzz, gx, gz;
+    double sine[kCachedWaves], cosine[kCachedWaves];
+  };
+  // turnPhases: after the first evaluation, turn the sines and cosines by each step instead of
+  // calling sin and cos (heightJet: ~1e-16 apart; surfaceHeight keeps the calls, bit for bit).
+  RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
+                      bool turnPhases = false) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;

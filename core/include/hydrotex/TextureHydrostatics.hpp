@@ -9,6 +9,7 @@
 /// queried once per step. A query neither throws nor allocates.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
@@ -20,8 +21,14 @@ namespace hydrotex {
 
 /// How a query walks the texels.
 enum class TexelTraversal {
-  Hierarchy,   ///< flat surfaces: tiles wholly under or over cost O(1); others fall back to BruteForce
-  BruteForce,  ///< every texel, every time (reference and benchmark baseline)
+  /// Tiles wholly under or over the surface cost O(1). Flat surfaces: against the plane. Surfaces
+  /// with jets and smoothness bounds (Gerstner waves): against a local quadratic model per tile,
+  /// interpolated from a few surface samples, with a bounded error. Others (height grids, media):
+  /// as BruteForce.
+  Hierarchy,
+  /// Every texel, every time, the surface asked at every texel that may be wet (reference and
+  /// benchmark baseline).
+  BruteForce,
 };
 
 /// Settings of the per-body texture hydrostatics. The hierarchy has two levels: groups of
@@ -33,6 +40,18 @@ struct TextureHydrostaticsSettings {
   /// Tiles per group side; 0 picks one from the resolution so that a group spans about
   /// sqrt(width) texels (at least one tile).
   int groupSize = 0;
+  /// Under waves: distance (m) between the surface samples that the local models interpolate;
+  /// 0 picks it from the surface's smoothness so that the interpolation's error bound on the
+  /// height is a thirtieth of surfaceModelTolerance (at most 40 samples per side).
+  double surfaceSampleSpacing = 0.0;
+  /// Under waves: the largest pointwise error bound (m) allowed to a local surface model. A group
+  /// of tiles takes one model when its bound is within this, else each of its tiles takes its
+  /// own, and a tile whose bound is still larger (steep or short waves) is summed texel by texel
+  /// with the surface's own heights. The bound only widens the band of tiles visited texel by
+  /// texel; the sums' error is far smaller (it averages out over a tile). 0 picks 1e-2 m, with
+  /// which test_texture_hydrostatics_waves finds the submerged volume within 1e-5 of the body's
+  /// volume of the per-texel answer.
+  double surfaceModelTolerance = 0.0;
 };
 
 /// Per-body texture hydrostatics: texel data packed for the query and per-tile moments.
@@ -97,9 +116,16 @@ class TextureHydrostatics {
     Moments moments;                      ///< of its texels
     Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();       ///< m, body frame
     Eigen::Vector3d boundsHalfExtent = Eigen::Vector3d::Zero();   ///< m, body frame
+    /// m: every texel patch lies within this distance of boundsCenter (at most the box's
+    /// half-diagonal; the reach of a local surface model about the centre, waves)
+    double boundsRadius = 0.0;
   };
 
  private:
+  // The Hierarchy traversal under a surface with jets (TextureHydrostaticsWaves.cpp); empty when
+  // the surface offers no smoothness bound (the caller then goes texel by texel).
+  std::optional<HydrostaticsResult> queryWaves(const LiquidSurface& surface, const HydrostaticsQuery& query,
+                                               double volumeScale) const;
   void refresh();  // moments and bounds of tiles, groups and body from texels_
   std::vector<Texel> texels_;
   std::vector<std::uint32_t> source_;  // per packed texel: its index in the SurfaceTextures
@@ -107,12 +133,16 @@ class TextureHydrostatics {
   bool valid_ = true;                  // false after a failed update
   std::vector<Tile> tiles_;
   std::vector<Tile> groups_;
+  std::vector<Tile> blocks_;                 // 2 x 2 tiles (Morton order within a group): tile ranges
+  std::vector<std::uint32_t> groupBlocks_;   // per group, its first block; one past the last at the end
   Moments total_;
   Eigen::Vector3d boundsCenter_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d boundsHalfExtent_ = Eigen::Vector3d::Zero();
   double enclosedVolume_ = 0.0;
   int tileSize_ = 0;
   int groupSize_ = 0;
+  double surfaceSampleSpacing_ = 0.0;   // m; 0: from the surface's smoothness
+  double surfaceModelTolerance_ = 1e-4; // m
 };
 
 }  // namespace hydrotex
