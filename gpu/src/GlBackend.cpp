@@ -605,6 +605,11 @@ class GlBackend final : public ComputeBackend {
       body.shellFirst += area * d;
       body.shellSecond += area * (d * d.transpose() + covariance);
     }
+    // A lid over an opening is no material (Mesh.hpp): its exact moments leave the shell, as on the CPU.
+    const OpeningMoments lids = textures.openings.about(body.referencePoint);
+    body.shellArea -= lids.area;
+    body.shellFirst -= lids.first;
+    body.shellSecond -= lids.second;
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       layout::Chunk& chunk = hydroChunks_[c];
       const std::size_t first = hydroChunkFirst_[c];
