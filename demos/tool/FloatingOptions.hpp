@@ -18,7 +18,7 @@ namespace hydrotex::tool {
 /// The command line of a floating body (file coordinates, before the up axis is applied).
 struct FloatingOptions {
   std::string meshPath;
-  MeshLoadSettings load;                       ///< --up, --scale, --no-repair, --max-hole-fraction
+  MeshLoadSettings load;                       ///< --up, --scale, --no-repair, --max-hole-fraction, --open-hull
   std::optional<double> mass;                  ///< kg, the hull's
   std::optional<double> density;               ///< kg/m^3, a uniform hull
   std::optional<double> displacement;          ///< m^3, the whole body's

@@ -58,7 +58,7 @@ struct SceneBody {
   std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
   std::string meshPath;                                      ///< ... loaded from this file (`mesh`), or ...
   std::optional<SceneShape> shape;                           ///< ... a Bullet primitive (`shape`)
-  MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`
+  MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`, `open_hull` (bool)
   std::optional<double> density;                             ///< kg/m^3 (uniform solid; kept when it deforms: the mass follows the volume)
   std::optional<double> mass;                                ///< kg (uniform solid; kept when it deforms: the density follows the volume)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();        ///< m, mesh frame origin in the world
