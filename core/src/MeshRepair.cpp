@@ -269,6 +269,30 @@ std::vector<std::vector<int>> boundaryLoops(const Mesh& mesh, std::size_t& untra
   return loops;
 }
 
+/// A closed loop split where it passes a vertex again (a rim pinched at one vertex) into simple
+/// loops, each visiting its vertices once: a fan over a pinched loop would use the edge from the
+/// pinch to the apex four times. Pieces of fewer than three vertices (an edge walked there and
+/// back) enclose nothing and are left out.
+std::vector<std::vector<int>> simpleLoops(const std::vector<int>& loop) {
+  std::vector<std::vector<int>> loops;
+  std::vector<int> stack;
+  std::unordered_map<int, std::size_t> at;  // vertex -> its place on the stack
+  for (int v : loop) {
+    const auto seen = at.find(v);
+    if (seen == at.end()) {
+      at.emplace(v, stack.size());
+      stack.push_back(v);
+      continue;
+    }
+    const std::size_t from = seen->second;
+    if (stack.size() - from >= 3) loops.emplace_back(stack.begin() + std::ptrdiff_t(from), stack.end());
+    for (std::size_t i = from + 1; i < stack.size(); ++i) at.erase(stack[i]);
+    stack.resize(from + 1);
+  }
+  if (stack.size() >= 3) loops.push_back(std::move(stack));
+  return loops;
+}
+
 }  // namespace
 
 Status RepairSettings::validate() const {
@@ -340,12 +364,16 @@ Expected<RepairReport> repairMesh(Mesh& mesh, const RepairSettings& settings) {
       mesh.triangles.emplace_back(a, b, c);
       hole.area += 0.5 * (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]).norm();
     };
-    if (loop.size() == 3) {
-      addCap(loop[2], loop[1], loop[0]);
-    } else {
-      const int apex = static_cast<int>(mesh.positions.size());
-      mesh.positions.push_back(centroid);
-      for (std::size_t i = 0; i < loop.size(); ++i) addCap(loop[(i + 1) % loop.size()], loop[i], apex);
+    for (const std::vector<int>& simple : simpleLoops(loop)) {
+      if (simple.size() == 3) {
+        addCap(simple[2], simple[1], simple[0]);
+        continue;
+      }
+      Eigen::Vector3d apex = Eigen::Vector3d::Zero();
+      for (int v : simple) apex += mesh.positions[v];
+      const int apexIndex = static_cast<int>(mesh.positions.size());
+      mesh.positions.push_back(apex / static_cast<double>(simple.size()));
+      for (std::size_t i = 0; i < simple.size(); ++i) addCap(simple[(i + 1) % simple.size()], simple[i], apexIndex);
     }
     (opening ? report.lids : report.holesClosed).push_back(hole);
   }

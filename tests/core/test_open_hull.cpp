@@ -96,6 +96,38 @@ TEST_CASE("open hull: the rim is capped by a lid when asked, refused otherwise",
     CHECK(mesh.openingTriangles.empty());
     CHECK_FALSE(checkClosed(mesh, "open box"));
   }
+  SECTION("a rim pinched at a vertex is capped loop by loop, manifold") {
+    // A 1 m cube whose top, 2 x 2 quads, lacks two quads meeting at its centre: one boundary
+    // walk of 8 edges passes the centre twice (the DTMB 5512's transom rim does this); a single
+    // fan would use the edge from the centre to the apex four times.
+    Mesh mesh = primitives::subdividedBox(Eigen::Vector3d(1, 1, 1), 2);
+    mesh.uv = {};
+    std::vector<Eigen::Vector3i> kept;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int c = 0; c < 3; ++c) centroid += mesh.positions[std::size_t(t[c])] / 3.0;
+      const bool removed = centroid.y() > 0.499 && centroid.x() * centroid.z() > 0.0;
+      if (!removed) kept.push_back(t);
+    }
+    REQUIRE(kept.size() + 4 == mesh.triangles.size());
+    mesh.triangles = kept;
+    auto report = repairMesh(mesh, openHull());
+    REQUIRE(report);
+    CHECK(report->unrepaired.empty());
+    // One walk through the pinch, or two loops when the walk starts there: 4 m, 0.5 m^2 in all.
+    double perimeter = 0.0, area = 0.0;
+    for (const ClosedHole& lid : report->lids) {
+      perimeter += lid.perimeter;
+      area += lid.area;
+    }
+    CHECK(perimeter == Approx(4.0).epsilon(1e-12));
+    CHECK(area == Approx(0.5).epsilon(1e-12));
+    const MeshReport closed = validateMesh(mesh, false);
+    CHECK(closed.watertight);
+    CHECK(closed.nonManifoldEdges == 0);
+    REQUIRE(closed.volume);
+    CHECK(*closed.volume == Approx(1.0).epsilon(1e-12));
+  }
   SECTION("a small hole is still a hole, not an opening") {
     // A closed 1 m cube with one of its 32 x 32 top quads missing: a 0.125 m loop, 0.072 of the
     // 1.73 m diagonal, under the 0.1 limit: capped as a wall, not as a lid.

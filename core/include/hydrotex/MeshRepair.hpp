@@ -76,7 +76,8 @@ struct RepairReport {
 /// edge; orient each part consistently (breadth-first over shared edges, keeping its majority);
 /// cap boundary loops whose perimeter is at most settings.maxHoleFraction of the diagonal, or
 /// whose cap area is at most settings.maxHoleAreaFraction of the surface area (fan
-/// from the loop's centroid; the artist's UVs are then dropped); with settings.openHull, cap the
+/// from the loop's centroid, one per simple loop where a loop passes a vertex twice; the
+/// artist's UVs are then dropped); with settings.openHull, cap the
 /// larger loops the same way as lids listed in Mesh::openingTriangles; turn each closed part outward
 /// by its signed volume, except that a part inside another keeps the sign of a cavity
 /// (MeshParts.hpp). Never touches a file. With settings.enabled false, the mesh is left as it is
