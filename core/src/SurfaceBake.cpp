@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 
+#include "MassMoments.hpp"
 #include "TexelClipping.hpp"
 
 namespace hydrotex {
@@ -258,14 +259,15 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     for (std::uint32_t t : mesh.openingTriangles) {
       if (t >= triangleCount || opening[t]) continue;
       opening[t] = 1;
-      // A triangle's area moments: A S / 3 and A (S S^T + sum of p_i p_i^T) / 12, S the sum of
-      // its corners (the shell terms of TriangleMassIntegrator.cpp).
+      // A triangle's area moments about the origin: a s / 3 and a q / 12 (MassMoments.hpp).
       const TriangleFrame& f = frames[t];
-      const Eigen::Vector3d sum = f.p0 + f.p1 + f.p2;
+      double s[3], q[6];
+      detail::triangleCornerSums(f.p0.data(), f.p1.data(), f.p2.data(), s, q);
       lids.area += f.area;
-      lids.first += f.area / 3.0 * sum;
-      lids.second += f.area / 12.0 *
-                     (sum * sum.transpose() + f.p0 * f.p0.transpose() + f.p1 * f.p1.transpose() + f.p2 * f.p2.transpose());
+      lids.first += f.area / 3.0 * Eigen::Vector3d(s[0], s[1], s[2]);
+      Eigen::Matrix3d second;
+      second << q[0], q[3], q[4], q[3], q[1], q[5], q[4], q[5], q[2];
+      lids.second += f.area / 12.0 * second;
     }
   }
 

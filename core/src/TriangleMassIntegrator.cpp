@@ -257,14 +257,8 @@ Status TriangleMassIntegrator::update(const Mesh& mesh) {
                          0.5 * (e1[0] * e2[1] - e1[1] * e2[0])};
     const double h = d0[0] * n[0] + d0[1] * n[1] + d0[2] * n[2];
     const double a = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double s[3] = {d0[0] + d1[0] + d2[0], d0[1] + d1[1] + d2[1], d0[2] + d1[2] + d2[2]};
-    // S S^T + Sum d_i d_i^T.
-    const double q[6] = {s[0] * s[0] + d0[0] * d0[0] + d1[0] * d1[0] + d2[0] * d2[0],
-                         s[1] * s[1] + d0[1] * d0[1] + d1[1] * d1[1] + d2[1] * d2[1],
-                         s[2] * s[2] + d0[2] * d0[2] + d1[2] * d1[2] + d2[2] * d2[2],
-                         s[0] * s[1] + d0[0] * d0[1] + d1[0] * d1[1] + d2[0] * d2[1],
-                         s[0] * s[2] + d0[0] * d0[2] + d1[0] * d1[2] + d2[0] * d2[2],
-                         s[1] * s[2] + d0[1] * d0[2] + d1[1] * d1[2] + d2[1] * d2[2]};
+    double s[3], q[6];  // S and S S^T + Sum d_i d_i^T
+    detail::triangleCornerSums(d0, d1, d2, s, q);
     const double shell = lid ? 0.0 : a;
     volume += h;
     area += shell;
