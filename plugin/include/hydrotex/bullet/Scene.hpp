@@ -74,7 +74,7 @@ struct SceneBody {
   std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
   WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
-  FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `liquid_graph`, `liquid_graph_nodes`
+  FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `opening_conductance`, `liquid_graph`, `liquid_graph_nodes`
   bool soft = false;                                         ///< `soft: true`: a btSoftBody (nodes: the mesh's vertices), buoyancy only; its nodes keep the mass (density: of the rest mesh)
   SoftMaterial softMaterial;                                 ///< `soft_material` (soft bodies only)
 };
