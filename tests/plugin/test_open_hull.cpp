@@ -5,6 +5,8 @@
 // the volume below its rim held.
 #include <catch2/catch.hpp>
 
+#include <iomanip>
+
 #include "OpenTopBox.hpp"
 #include "PluginTestWorld.hpp"
 #include "hydrotex/MeshRepair.hpp"
@@ -56,7 +58,7 @@ TEST_CASE("open hull: an open box of shell density floats at its closed-form dra
   CHECK(report.massProperties.mass == Approx(60.0 * kWallArea).epsilon(1e-5));
   for (int i = 0; i < 120 * 20; ++i) world.step(1.0 / 120.0);
   const double draft = 0.5 * kDepth - double(world.controller().meshTransform(body)->getOrigin().y());
-  INFO("draft " << draft << " m");
+  INFO("draft " << std::setprecision(10) << draft << " m");
   // Within the 1 mm the controller's rest detection allows (as the intact barge of test_flooding).
   CHECK(draft == Approx(60.0 * kWallArea / (kWater * kLength * kBeam)).margin(1e-3));
   // The lid stays above the surface and the walls are tight without a map: nothing enters.
@@ -80,7 +82,7 @@ TEST_CASE("open hull: loaded past its freeboard, an open box swamps and holds th
   CHECK(dryMass == Approx(60.0 * kWallArea + 800.0).epsilon(1e-5));
   for (int i = 0; i < 120 * 20; ++i) world.step(1.0 / 120.0);
   const FloatingBodyReport& report = *world.controller().report(body);
-  INFO("held " << report.liquidVolume << " m^3, mesh origin at y = "
+  INFO("held " << std::setprecision(10) << report.liquidVolume << " m^3, mesh origin at y = "
                << world.controller().meshTransform(body)->getOrigin().y() << " m");
   // Full: the graph's capacity is the volume below the rim from the texels' exact cones, in float
   // (1e-5 relative).
