@@ -12,6 +12,7 @@
 #include "hydrotex/LiquidGraphBuilder.hpp"
 #include "hydrotex/LiquidSurface.hpp"
 #include "hydrotex/MassModel.hpp"
+#include "hydrotex/MassProperties.hpp"
 #include "hydrotex/MeshRepair.hpp"
 #include "hydrotex/MeshValidation.hpp"
 #include "hydrotex/TexelDrag.hpp"
@@ -191,6 +192,14 @@ TEST_CASE("open hull: the lid carries no shell mass", "[open_hull][mass]") {
   CHECK(triangles->area() == Approx(kWallArea).epsilon(1e-12));
   CHECK(exact->mass == Approx(kShell * kWallArea).epsilon(1e-12));
   CHECK(exact->centerOfMass.y() == Approx(-0.1).margin(1e-12));
+
+  // The exact shell (the tool's --shell-density): the walls' mass and centre, to rounding.
+  auto shell = polyhedralShellMassProperties(geometry.mesh, kShell);
+  REQUIRE(shell);
+  CHECK(shell->mass == Approx(kShell * kWallArea).epsilon(1e-12));
+  CHECK(shell->centerOfMass.y() == Approx(-0.1).margin(1e-12));
+  CHECK(shell->centerOfMass.x() == Approx(0.0).margin(1e-12));
+  CHECK_FALSE(polyhedralShellMassProperties(geometry.mesh, -1.0));
 
   // The lid feels no drag either: the patches' area is the walls'.
   double patchArea = 0.0;

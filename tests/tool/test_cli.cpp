@@ -262,6 +262,15 @@ TEST_CASE("--open-hull caps a deckless box with a lid that inspect lists", "[too
   const ToolRun floating = runTool("equilibrium " + path + " --open-hull --mass 300 --center-of-mass 0.5,0.2,0.5 --json");
   REQUIRE(floating.exitCode == 0);
   CHECK(nlohmann::json::parse(floating.out)["draft"].get<double>() == Approx(0.3).epsilon(1e-6));
+  // Weighed from its walls: 60 kg/m^2 over 5 m^2 is 300 kg, centred at y = (1 x 0 + 4 x 0.5) / 5
+  // = 0.4 m, not at the closed cube's 0.5 m (exact triangle sums: 1e-12).
+  const ToolRun shell = runTool("equilibrium " + path + " --open-hull --shell-density 60 --json");
+  REQUIRE(shell.exitCode == 0);
+  const auto shellJson = nlohmann::json::parse(shell.out);
+  CHECK(shellJson["mass"].get<double>() == Approx(300.0).epsilon(1e-12));
+  CHECK(shellJson["center_of_mass"][1].get<double>() == Approx(0.4).epsilon(1e-12));
+  // Still upright (GM = 0.15 + 1 / (12 x 0.3) - 0.4 = 0.028 m) at 0.3 m.
+  CHECK(shellJson["draft"].get<double>() == Approx(0.3).epsilon(1e-6));
   // Without repair there is nothing to cap: refused as an open mesh, with one line.
   requireCleanFailure(runTool("mass " + path + " --method exact --open-hull --no-repair"), "open");
 }

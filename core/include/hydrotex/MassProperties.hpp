@@ -24,6 +24,13 @@ struct MassProperties {
 /// precision. Error when the mesh is open, empty, or has non-finite vertices, or density <= 0.
 Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density);
 
+/// Exact mass properties of a shell of uniform `arealDensity` (kg/m^2) over the triangles of
+/// `mesh`, lids over openings (Mesh::openingTriangles) left out: an open hull's own mass. The
+/// mesh need not be closed; `volume` is 0 (a shell encloses nothing of its own). Error when the
+/// density is not positive and finite, the mesh has no triangles or no area outside its lids,
+/// a vertex is not finite or an index is out of range.
+Expected<MassProperties> polyhedralShellMassProperties(const Mesh& mesh, double arealDensity);
+
 /// What a body is made of, for the texture path (docs/design.md "Mass model").
 struct TextureMassModel {
   double solidDensity = 1000.0;    ///< kg/m^3 filling the enclosed volume (0: hollow)
