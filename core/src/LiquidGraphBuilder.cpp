@@ -170,16 +170,29 @@ std::vector<PermeableTexel> permeableTexels(const SurfaceTextures& textures, con
                                             const std::vector<std::uint32_t>& texelNode,
                                             const LiquidGraphBuildSettings& settings) {
   std::vector<PermeableTexel> out;
-  for (std::size_t t = 0; t < textures.size(); ++t) {
-    const double value = values.empty() ? 1.0 : double(values[t]);
-    if (!(value > 0.0) || !(textures.area[t] > 0.0f)) continue;
+  // An open hull (Mesh::openingTriangles) takes liquid in through its openings; its walls are
+  // watertight unless a map says otherwise.
+  const bool openHull = !textures.openingArea.empty() && textures.openingArea.size() == textures.size() &&
+                        textures.openingPosition.size() == textures.size();
+  const auto add = [&](std::size_t t, const Eigen::Vector3f& position, double transmissibility) {
+    if (!(transmissibility > 0.0)) return;
     PermeableTexel texel;
-    texel.position = textures.position[t];
-    // Darcy's k A / L per texel (paper eq. 9): the map scales the permeability of white.
-    texel.transmissibility = float(value * settings.permeability * double(textures.area[t]) / settings.wallThickness);
+    texel.position = position;
+    texel.transmissibility = float(transmissibility);
     texel.node = texelNode[t];
     texel.texel = std::uint32_t(t);
     out.push_back(texel);
+  };
+  for (std::size_t t = 0; t < textures.size(); ++t) {
+    if (!(textures.area[t] > 0.0f)) continue;
+    const double lidArea = openHull ? double(textures.openingArea[t]) : 0.0;
+    const double wallArea = std::max(double(textures.area[t]) - lidArea, 0.0);
+    const double value = values.empty() ? (openHull ? 0.0 : 1.0) : double(values[t]);
+    // Darcy's k A / L per texel (paper eq. 9): the map scales the permeability of white.
+    add(t, textures.position[t], value * settings.permeability * wallArea / settings.wallThickness);
+    // The texel's part on a lid is an opening, with no wall to pass, where the lid is (a texel
+    // may hold pieces of a lid and of the bottom: its own position is neither's).
+    if (lidArea > 0.0) add(t, textures.openingPosition[t], settings.openingConductance * lidArea);
   }
   return out;
 }
@@ -236,6 +249,8 @@ Status LiquidGraphBuildSettings::validate() const {
     return Error{"interior_permeability: must be >= 0 m^2 and finite"};
   }
   if (cellBudget < 8 || cellBudget > 4000000) return Error{"cellBudget: must lie in 8..4000000"};
+  if (!(std::isfinite(openingConductance) && openingConductance >= 0.0))
+    return Error{"opening_conductance: must be >= 0 m and finite"};
   return Ok{};
 }
 

@@ -51,15 +51,22 @@ void flipTriangle(Mesh& mesh, std::size_t t, bool withUv) {
 }
 
 void removeTriangles(Mesh& mesh, const std::vector<bool>& drop, bool withUv) {
+  // Lids of an earlier repair keep pointing at their triangles (a mesh repaired twice).
+  std::vector<std::uint32_t> newIndex(mesh.triangles.size());
   std::size_t kept = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (drop[t]) continue;
+    newIndex[t] = static_cast<std::uint32_t>(kept);
     mesh.triangles[kept] = mesh.triangles[t];
     if (withUv) mesh.uv.uvTriangles[kept] = mesh.uv.uvTriangles[t];
     ++kept;
   }
   mesh.triangles.resize(kept);
   if (withUv) mesh.uv.uvTriangles.resize(kept);
+  std::vector<std::uint32_t> openings;
+  for (std::uint32_t t : mesh.openingTriangles)
+    if (t < drop.size() && !drop[t]) openings.push_back(newIndex[t]);
+  mesh.openingTriangles = std::move(openings);
 }
 
 /// Merges vertices closer than `tolerance` (m) into the first one met; returns how many merged.
@@ -262,6 +269,30 @@ std::vector<std::vector<int>> boundaryLoops(const Mesh& mesh, std::size_t& untra
   return loops;
 }
 
+/// A closed loop split where it passes a vertex again (a rim pinched at one vertex) into simple
+/// loops, each visiting its vertices once: a fan over a pinched loop would use the edge from the
+/// pinch to the apex four times. Pieces of fewer than three vertices (an edge walked there and
+/// back) enclose nothing and are left out.
+std::vector<std::vector<int>> simpleLoops(const std::vector<int>& loop) {
+  std::vector<std::vector<int>> loops;
+  std::vector<int> stack;
+  std::unordered_map<int, std::size_t> at;  // vertex -> its place on the stack
+  for (int v : loop) {
+    const auto seen = at.find(v);
+    if (seen == at.end()) {
+      at.emplace(v, stack.size());
+      stack.push_back(v);
+      continue;
+    }
+    const std::size_t from = seen->second;
+    if (stack.size() - from >= 3) loops.emplace_back(stack.begin() + std::ptrdiff_t(from), stack.end());
+    for (std::size_t i = from + 1; i < stack.size(); ++i) at.erase(stack[i]);
+    stack.resize(from + 1);
+  }
+  if (stack.size() >= 3) loops.push_back(std::move(stack));
+  return loops;
+}
+
 }  // namespace
 
 Status RepairSettings::validate() const {
@@ -314,31 +345,39 @@ Expected<RepairReport> repairMesh(Mesh& mesh, const RepairSettings& settings) {
     double capArea = 0.0;
     for (std::size_t i = 0; i < loop.size(); ++i)
       capArea += 0.5 * (mesh.positions[loop[i]] - centroid).cross(mesh.positions[loop[(i + 1) % loop.size()]] - centroid).norm();
-    if (perimeter > maxPerimeter && capArea > maxCapArea) {
+    const bool opening = perimeter > maxPerimeter && capArea > maxCapArea;
+    if (opening && !settings.openHull) {
       report.unrepaired.push_back("open hull: a boundary loop of " + metres(perimeter) + " (" +
                                   std::to_string(loop.size()) + " edges) is longer than the " + metres(maxPerimeter) +
                                   " holes repair closes (max hole fraction " + number(settings.maxHoleFraction) +
                                   " of the " + metres(diagonal) +
                                   " bounding-box diagonal); raise it (--max-hole-fraction, scene key "
-                                  "\"max_hole_fraction\") or close the opening in the file");
+                                  "\"max_hole_fraction\"), close the opening in the file, or cap it as the "
+                                  "opening of an open hull (--open-hull, scene key \"open_hull\")");
       continue;
     }
     // Cap triangles walk each loop edge backwards, so they agree with the part's orientation.
+    // A lid is capped as a hole is; only its triangles are listed as an opening.
     ClosedHole hole{loop.size(), perimeter, 0.0};
     const auto addCap = [&](int a, int b, int c) {
+      if (opening) mesh.openingTriangles.push_back(static_cast<std::uint32_t>(mesh.triangles.size()));
       mesh.triangles.emplace_back(a, b, c);
       hole.area += 0.5 * (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]).norm();
     };
-    if (loop.size() == 3) {
-      addCap(loop[2], loop[1], loop[0]);
-    } else {
-      const int apex = static_cast<int>(mesh.positions.size());
-      mesh.positions.push_back(centroid);
-      for (std::size_t i = 0; i < loop.size(); ++i) addCap(loop[(i + 1) % loop.size()], loop[i], apex);
+    for (const std::vector<int>& simple : simpleLoops(loop)) {
+      if (simple.size() == 3) {
+        addCap(simple[2], simple[1], simple[0]);
+        continue;
+      }
+      Eigen::Vector3d apex = Eigen::Vector3d::Zero();
+      for (int v : simple) apex += mesh.positions[v];
+      const int apexIndex = static_cast<int>(mesh.positions.size());
+      mesh.positions.push_back(apex / static_cast<double>(simple.size()));
+      for (std::size_t i = 0; i < simple.size(); ++i) addCap(simple[(i + 1) % simple.size()], simple[i], apexIndex);
     }
-    report.holesClosed.push_back(hole);
+    (opening ? report.lids : report.holesClosed).push_back(hole);
   }
-  if (!report.holesClosed.empty() && withUv) {
+  if ((!report.holesClosed.empty() || !report.lids.empty()) && withUv) {
     // Caps have no artist UVs; a partial layout cannot be an atlas, so the atlas is generated.
     mesh.uv = UvLayout{};
     report.uvsDropped = true;
@@ -378,6 +417,9 @@ std::string RepairReport::summary() const {
   for (const ClosedHole& hole : holesClosed)
     out << "  hole closed: " << hole.edges << " edges, perimeter " << hole.perimeter << " m, cap area " << hole.area
         << " m^2\n";
+  for (const ClosedHole& lid : lids)
+    out << "  opening capped by a lid (open hull): " << lid.edges << " edges, loop length " << lid.perimeter
+        << " m, lid area " << lid.area << " m^2 (no mass; open to liquid with flooding)\n";
   if (partsFlipped > 0) out << "  parts turned right side out: " << partsFlipped << " (" << flippedVolume << " m^3)\n";
   if (uvsDropped) out << "  artist UVs dropped (caps have none): the physics atlas is generated\n";
   for (const std::string& left : unrepaired) out << "  not repaired: " << left << "\n";

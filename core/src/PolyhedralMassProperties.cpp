@@ -9,8 +9,10 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "hydrotex/MassProperties.hpp"
+#include "MassMoments.hpp"
 #include "hydrotex/MeshParts.hpp"
 #include "hydrotex/MeshValidation.hpp"
 
@@ -115,6 +117,50 @@ Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double densi
   result.centerOfMass = origin + c;
   result.inertia = density * (central.trace() * Eigen::Matrix3d::Identity() - central);
   return result;
+}
+
+Expected<MassProperties> polyhedralShellMassProperties(const Mesh& mesh, double arealDensity) {
+  const std::string name = mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName;
+  if (!(arealDensity > 0.0) || !std::isfinite(arealDensity))
+    return Error{name + ": shell density " + std::to_string(arealDensity) + " kg/m^2 must be positive and finite"};
+  if (mesh.triangles.empty()) return Error{name + ": no triangles, no shell"};
+  const int vertexCount = static_cast<int>(mesh.positions.size());
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    if (!mesh.positions[i].allFinite()) return Error{name + ": vertex " + std::to_string(i) + " is not finite"};
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (mesh.triangles[t][k] < 0 || mesh.triangles[t][k] >= vertexCount)
+        return Error{name + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
+  // About the bounding-box centre, as above; a triangle's area moments a s / 3, a q / 12.
+  Eigen::Vector3d lo = mesh.positions[0], hi = lo;
+  for (const auto& p : mesh.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d origin = 0.5 * (lo + hi);
+  std::vector<bool> lid(mesh.triangles.size(), false);
+  for (std::uint32_t t : mesh.openingTriangles)
+    if (t < lid.size()) lid[t] = true;
+  double area = 0.0, first[3] = {}, second[6] = {};
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (lid[t]) continue;
+    const Eigen::Vector3d p0 = mesh.positions[std::size_t(mesh.triangles[t][0])] - origin;
+    const Eigen::Vector3d p1 = mesh.positions[std::size_t(mesh.triangles[t][1])] - origin;
+    const Eigen::Vector3d p2 = mesh.positions[std::size_t(mesh.triangles[t][2])] - origin;
+    const double a = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    double s[3], q[6];
+    detail::triangleCornerSums(p0.data(), p1.data(), p2.data(), s, q);
+    area += a;
+    for (int c = 0; c < 3; ++c) first[c] += a * s[c] / 3.0;
+    for (int m = 0; m < 6; ++m) second[m] += a * q[m] / 12.0;
+  }
+  if (!(area > 0.0)) return Error{name + ": no area outside its lids, no shell"};
+  detail::MassMoments moments;
+  moments.mass = arealDensity * area;
+  moments.first = arealDensity * Eigen::Vector3d(first[0], first[1], first[2]);
+  moments.second << second[0], second[3], second[4], second[3], second[1], second[5], second[4], second[5], second[2];
+  moments.second *= arealDensity;
+  return detail::massPropertiesFromMoments(moments, origin);
 }
 
 }  // namespace hydrotex

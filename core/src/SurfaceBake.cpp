@@ -10,6 +10,7 @@
 #include <cmath>
 #include <string>
 
+#include "MassMoments.hpp"
 #include "TexelClipping.hpp"
 
 namespace hydrotex {
@@ -250,6 +251,26 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     f.dPdv = (e2 * d1.x() - e1 * d2.x()) / det;
   }
 
+  // Lids over openings (an open hull): per triangle, whether it is one.
+  std::vector<char> opening;
+  OpeningMoments lids;
+  if (mesh.hasOpenings()) {
+    opening.assign(triangleCount, 0);
+    for (std::uint32_t t : mesh.openingTriangles) {
+      if (t >= triangleCount || opening[t]) continue;
+      opening[t] = 1;
+      // A triangle's area moments about the origin: a s / 3 and a q / 12 (MassMoments.hpp).
+      const TriangleFrame& f = frames[t];
+      double s[3], q[6];
+      detail::triangleCornerSums(f.p0.data(), f.p1.data(), f.p2.data(), s, q);
+      lids.area += f.area;
+      lids.first += f.area / 3.0 * Eigen::Vector3d(s[0], s[1], s[2]);
+      Eigen::Matrix3d second;
+      second << q[0], q[3], q[4], q[3], q[1], q[5], q[4], q[5], q[2];
+      lids.second += f.area / 12.0 * second;
+    }
+  }
+
   SurfaceTextures out;
   out.width = bake.width;
   out.height = bake.height;
@@ -259,6 +280,12 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
   out.area.resize(covered);
   out.edgeU.resize(covered);
   out.edgeV.resize(covered);
+  if (!opening.empty()) {
+    out.openingArea.assign(covered, 0.0f);
+    out.openingAreaVector.assign(covered, Eigen::Vector3f::Zero());
+    out.openingPosition.assign(covered, Eigen::Vector3f::Zero());
+  }
+  out.openings = lids;
   const double texelU = bake.width > 0 ? 1.0 / bake.width : 0.0;
   const double texelV = bake.height > 0 ? 1.0 / bake.height : 0.0;
 
@@ -266,6 +293,8 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     Eigen::Vector3d areaVector = Eigen::Vector3d::Zero(), weightedCentroid = Eigen::Vector3d::Zero();
     Eigen::Vector3d edgeU = Eigen::Vector3d::Zero(), edgeV = Eigen::Vector3d::Zero();
     double area = 0.0, uvWeight = 0.0, flux = 0.0;  // flux: sum of centroid . piece area vector
+    double openingArea = 0.0;
+    Eigen::Vector3d openingAreaVector = Eigen::Vector3d::Zero(), openingWeighted = Eigen::Vector3d::Zero();
     for (std::uint32_t k = bake.pieceStart[i]; k < bake.pieceStart[i + 1]; ++k) {
       const TexelPiece& piece = bake.pieces[k];
       if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
@@ -277,6 +306,11 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
       const double pieceArea = fraction * f.area;
       areaVector += pieceAreaVector;
       area += pieceArea;
+      if (!opening.empty() && opening[piece.triangle]) {
+        openingArea += pieceArea;
+        openingAreaVector += pieceAreaVector;
+        openingWeighted += pieceArea * centroid;
+      }
       weightedCentroid += pieceArea * centroid;
       flux += centroid.dot(pieceAreaVector);
       const double pieceUv = fraction * f.uvArea;
@@ -295,6 +329,11 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     out.position[i] = position.cast<float>();
     out.areaVector[i] = areaVector.cast<float>();
     out.area[i] = static_cast<float>(area);
+    if (!opening.empty()) {
+      out.openingArea[i] = static_cast<float>(openingArea);
+      out.openingAreaVector[i] = openingAreaVector.cast<float>();
+      out.openingPosition[i] = openingArea > 0.0 ? Eigen::Vector3d(openingWeighted / openingArea).cast<float>() : out.position[i];
+    }
     if (uvWeight > 0.0) {
       out.edgeU[i] = (edgeU * (texelU / uvWeight)).cast<float>();
       out.edgeV[i] = (edgeV * (texelV / uvWeight)).cast<float>();

@@ -66,9 +66,11 @@ std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const
   for (std::size_t tile = 0; tile + 1 < bake.tileStart.size(); ++tile) {
     open.clear();
     for (std::uint32_t t = bake.tileStart[tile]; t < bake.tileStart[tile + 1]; ++t) {
-      const Eigen::Vector3d a = textures.areaVector[t].cast<double>();
+      // A lid over an opening (Mesh.hpp) is no wall: the liquid flows through it, not against it.
+      const bool lid = textures.openingArea.size() == count && textures.openingAreaVector.size() == count;
+      const Eigen::Vector3d a = (textures.areaVector[t] - (lid ? textures.openingAreaVector[t] : Eigen::Vector3f::Zero())).cast<double>();
       const double norm = a.norm();
-      const double area = textures.area[t];
+      const double area = double(textures.area[t]) - (lid ? double(textures.openingArea[t]) : 0.0);
       if (!(norm > 0.0) || !(area > 0.0) || !a.allFinite()) continue;
       const Eigen::Vector3d n = a / norm;
       const Eigen::Vector3d p = textures.position[t].cast<double>();

@@ -275,9 +275,11 @@ void TextureMassIntegrator::update(const SurfaceTextures& textures) {
     shellArea += blockArea;
   }
   totalVolume_ = volumeSum;
-  shellArea_ = shellArea;
-  shellFirst_ = Eigen::Vector3d(shellFirst[0], shellFirst[1], shellFirst[2]);
-  shellSecond_ = symmetric(shellSecond);
+  // A lid over an opening is no material (Mesh.hpp): its exact moments leave the shell.
+  const OpeningMoments lids = textures.openings.about(referencePoint_);
+  shellArea_ = shellArea - lids.area;
+  shellFirst_ = Eigen::Vector3d(shellFirst[0], shellFirst[1], shellFirst[2]) - lids.first;
+  shellSecond_ = symmetric(shellSecond) - lids.second;
   volumeFirst_ = Eigen::Vector3d(volumeFirst[0], volumeFirst[1], volumeFirst[2]);
   volumeSecond_ = symmetric(volumeSecond);
   coneCovariance_ = symmetric(covariance);

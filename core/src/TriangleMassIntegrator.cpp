@@ -229,7 +229,11 @@ Status TriangleMassIntegrator::update(const Mesh& mesh) {
   const double cx = referencePoint_.x(), cy = referencePoint_.y(), cz = referencePoint_.z();
   double volume = 0.0, area = 0.0;
   double volumeFirst[3] = {}, volumeSecond[6] = {}, shellFirst[3] = {}, shellSecond[6] = {};
+  // Lids over openings (ascending, Mesh.hpp) close the volume but carry no shell.
+  std::size_t nextOpening = 0;
   for (std::size_t t = 0; t < triangles; ++t) {
+    while (nextOpening < mesh.openingTriangles.size() && mesh.openingTriangles[nextOpening] < t) ++nextOpening;
+    const bool lid = nextOpening < mesh.openingTriangles.size() && mesh.openingTriangles[nextOpening] == t;
     const Eigen::Vector3i& corners = mesh.triangles[t];
     if (std::size_t(unsigned(corners[0])) >= vertices || std::size_t(unsigned(corners[1])) >= vertices ||
         std::size_t(unsigned(corners[2])) >= vertices)
@@ -253,22 +257,17 @@ Status TriangleMassIntegrator::update(const Mesh& mesh) {
                          0.5 * (e1[0] * e2[1] - e1[1] * e2[0])};
     const double h = d0[0] * n[0] + d0[1] * n[1] + d0[2] * n[2];
     const double a = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const double s[3] = {d0[0] + d1[0] + d2[0], d0[1] + d1[1] + d2[1], d0[2] + d1[2] + d2[2]};
-    // S S^T + Sum d_i d_i^T.
-    const double q[6] = {s[0] * s[0] + d0[0] * d0[0] + d1[0] * d1[0] + d2[0] * d2[0],
-                         s[1] * s[1] + d0[1] * d0[1] + d1[1] * d1[1] + d2[1] * d2[1],
-                         s[2] * s[2] + d0[2] * d0[2] + d1[2] * d1[2] + d2[2] * d2[2],
-                         s[0] * s[1] + d0[0] * d0[1] + d1[0] * d1[1] + d2[0] * d2[1],
-                         s[0] * s[2] + d0[0] * d0[2] + d1[0] * d1[2] + d2[0] * d2[2],
-                         s[1] * s[2] + d0[1] * d0[2] + d1[1] * d1[2] + d2[1] * d2[2]};
+    double s[3], q[6];  // S and S S^T + Sum d_i d_i^T
+    detail::triangleCornerSums(d0, d1, d2, s, q);
+    const double shell = lid ? 0.0 : a;
     volume += h;
-    area += a;
+    area += shell;
     for (int c = 0; c < 3; ++c) {
       volumeFirst[c] += h * s[c];
-      shellFirst[c] += a * s[c];
+      shellFirst[c] += shell * s[c];
     }
     addSymmetric(volumeSecond, h, q);
-    addSymmetric(shellSecond, a, q);
+    addSymmetric(shellSecond, shell, q);
   }
   // The common factors: volume h/3, first h S/12, second h (S S^T + Q)/60; shell |N|, |N| S/3,
   // |N| (S S^T + Q)/12.

@@ -46,8 +46,12 @@ void addFloatingOptions(CLI::App& verb, FloatingOptions& options) {
   CLI::Option* density = verb.add_option("--density", options.density, "uniform density of the hull (kg/m^3)");
   CLI::Option* displacement = verb.add_option(
       "--displacement", options.displacement, "displaced volume of the whole body (m^3): its mass is that of the liquid");
-  mass->excludes(density)->excludes(displacement);
-  density->excludes(displacement);
+  CLI::Option* shell = verb.add_option(
+      "--shell-density", options.shellDensity,
+      "areal density of a hull that is a shell (kg/m^2): its mass and centre from its walls, lids of --open-hull left out");
+  mass->excludes(density)->excludes(displacement)->excludes(shell);
+  density->excludes(displacement)->excludes(shell);
+  displacement->excludes(shell);
   verb.add_option_function<std::vector<double>>(
           "--center-of-mass",
           [&options](const std::vector<double>& v) {
@@ -55,7 +59,7 @@ void addFloatingOptions(CLI::App& verb, FloatingOptions& options) {
               if (!std::isfinite(value)) throw CLI::ValidationError("--center-of-mass", "must be finite numbers");
             options.centerOfMass = Eigen::Vector3d(v[0], v[1], v[2]);
           },
-          "X,Y,Z of the hull's centre of mass (m, file coordinates; default: the uniform solid's)")
+          "X,Y,Z of the hull's centre of mass (m, file coordinates; default: the uniform solid's, or the shell's)")
       ->delimiter(',')
       ->expected(3);
   verb.add_option("--point-mass", options.pointMasses, "KG@X,Y,Z: a mass added at a point (m, file coordinates); repeatable")
@@ -70,8 +74,10 @@ void addFloatingOptions(CLI::App& verb, FloatingOptions& options) {
 }
 
 Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions& options) {
-  if (!options.mass && !options.density && !options.displacement)
-    return Error{"give the body's mass: --mass KG, --density KG_M3 or --displacement M3"};
+  if (!options.mass && !options.density && !options.displacement && !options.shellDensity)
+    return Error{"give the body's mass: --mass KG, --density KG_M3, --shell-density KG_M2 or --displacement M3"};
+  if (options.shellDensity && !(std::isfinite(*options.shellDensity) && *options.shellDensity > 0.0))
+    return Error{"--shell-density " + number(*options.shellDensity) + ": must be positive"};
   if (options.mass && !(std::isfinite(*options.mass) && *options.mass > 0.0))
     return Error{"--mass " + number(*options.mass) + ": must be positive"};
   if (options.density && !(std::isfinite(*options.density) && *options.density > 0.0))
@@ -107,6 +113,14 @@ Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions&
   double hull = 0.0;
   if (options.mass) hull = *options.mass;
   if (options.density) hull = *options.density * solid->volume;
+  Eigen::Vector3d defaultCenter = solid->centerOfMass;
+  if (options.shellDensity) {
+    // A shell: an open hull's mass is its walls', centred where they are (not in the space under its lid).
+    Expected<MassProperties> shell = polyhedralShellMassProperties(setup->mesh, *options.shellDensity);
+    if (!shell) return shell.error();
+    hull = shell->mass;
+    defaultCenter = shell->centerOfMass;
+  }
   if (options.displacement) {
     hull = options.fluidDensity * *options.displacement - pointTotal;
     if (hull <= 0.0)
@@ -114,7 +128,7 @@ Expected<std::unique_ptr<FloatingSetup>> loadFloatingBody(const FloatingOptions&
                    " kg) already weigh more than the liquid it displaces"};
   }
   const Eigen::Vector3d hullCenter =
-      options.centerOfMass ? Eigen::Vector3d(setup->fileScale * (setup->fromFile * *options.centerOfMass)) : solid->centerOfMass;
+      options.centerOfMass ? Eigen::Vector3d(setup->fileScale * (setup->fromFile * *options.centerOfMass)) : defaultCenter;
   setup->body.mass = hull + pointTotal;
   setup->body.centerOfMass = (hull * hullCenter + pointMoment) / setup->body.mass;
   setup->settings.fluidDensity = options.fluidDensity;

@@ -18,9 +18,10 @@ namespace hydrotex::tool {
 /// The command line of a floating body (file coordinates, before the up axis is applied).
 struct FloatingOptions {
   std::string meshPath;
-  MeshLoadSettings load;                       ///< --up, --scale, --no-repair, --max-hole-fraction
+  MeshLoadSettings load;                       ///< --up, --scale, --no-repair, --max-hole-fraction, --open-hull
   std::optional<double> mass;                  ///< kg, the hull's
   std::optional<double> density;               ///< kg/m^3, a uniform hull
+  std::optional<double> shellDensity;          ///< kg/m^2, a hull that is a shell (an open hull's walls, lids left out)
   std::optional<double> displacement;          ///< m^3, the whole body's
   std::optional<Eigen::Vector3d> centerOfMass; ///< m, the hull's
   std::vector<std::string> pointMasses;        ///< "KG@X,Y,Z"

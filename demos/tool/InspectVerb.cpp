@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Zlib
-// `hydrotex inspect MESH [--up y|z] [--scale S] [--no-repair] [--max-hole-fraction F] [--json]`
+// `hydrotex inspect MESH [--up y|z] [--scale S] [--no-repair] [--max-hole-fraction F] [--open-hull] [--json]`
 
 #include <sstream>
 
@@ -54,6 +54,10 @@ int runInspect(const InspectOptions& options) {
   repaired["holes_closed"] = nlohmann::json::array();
   for (const ClosedHole& hole : repairs.holesClosed)
     repaired["holes_closed"].push_back({{"edges", hole.edges}, {"perimeter", hole.perimeter}, {"area", hole.area}});
+  // Openings of an open hull (--open-hull): each capped by a lid with no mass, open to liquid.
+  repaired["lids"] = nlohmann::json::array();
+  for (const ClosedHole& lid : repairs.lids)
+    repaired["lids"].push_back({{"edges", lid.edges}, {"loop_length", lid.perimeter}, {"area", lid.area}});
   repaired["not_repaired"] = repairs.unrepaired;
   out["repairs"] = repaired;
 

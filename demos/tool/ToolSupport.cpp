@@ -87,6 +87,10 @@ void addMeshLoadOptions(CLI::App& verb, MeshLoadSettings& settings) {
   verb.add_option("--max-hole-fraction", settings.repair.maxHoleFraction,
                   "repair closes boundary loops up to this fraction of the bounding-box diagonal (default 0.1)")
       ->check(CLI::NonNegativeNumber);
+  verb.add_flag_callback(
+      "--open-hull", [&settings] { settings.repair.openHull = true; },
+      "an open hull by design (a dinghy, an open transom): a boundary loop too large to be a hole is capped "
+      "by a lid that closes the volume, has no mass and lets liquid in");
 }
 
 void addMethodOptions(CLI::App& verb, MethodOptions& options) {

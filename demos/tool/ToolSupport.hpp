@@ -36,7 +36,7 @@ struct MethodOptions {
   void addTo(nlohmann::json& out, const ComputeBackend* backend) const;
 };
 
-/// Adds `--up y|z`, `--scale S`, `--no-repair` and `--max-hole-fraction F`: how the verb's mesh
+/// Adds `--up y|z`, `--scale S`, `--no-repair`, `--max-hole-fraction F` and `--open-hull`: how the verb's mesh
 /// file becomes a body (MeshLoadSettings).
 void addMeshLoadOptions(CLI::App& verb, MeshLoadSettings& settings);
 

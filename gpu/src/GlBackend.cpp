@@ -533,6 +533,8 @@ class GlBackend final : public ComputeBackend {
     double shellArea = 0.0;
     Eigen::Vector3d shellFirst = Eigen::Vector3d::Zero();
     Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
+    // Lids over openings (Mesh.hpp), about the reference point: left out of the shell sums.
+    OpeningMoments lids;
     TexelVolumeCalibration calibration;
     // Sum A (m^2, body frame, double): zero for a closed surface up to the texels' rounding, which
     // a medium's absolute pressure multiplies (as on the CPU). Zero for a GPU-deformed body.
@@ -605,6 +607,11 @@ class GlBackend final : public ComputeBackend {
       body.shellFirst += area * d;
       body.shellSecond += area * (d * d.transpose() + covariance);
     }
+    // A lid over an opening is no material (Mesh.hpp): its exact moments leave the shell, as on the CPU.
+    body.lids = textures.openings.about(body.referencePoint);
+    body.shellArea -= body.lids.area;
+    body.shellFirst -= body.lids.first;
+    body.shellSecond -= body.lids.second;
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       layout::Chunk& chunk = hydroChunks_[c];
       const std::size_t first = hydroChunkFirst_[c];
@@ -732,6 +739,10 @@ class GlBackend final : public ComputeBackend {
         if (kPair[k][0] != kPair[k][1]) body.shellSecond(kPair[k][1], kPair[k][0]) += v[12 + k];
       }
     }
+    // A deformed body keeps the lids of its rest mesh (SurfaceBake.hpp).
+    body.shellArea -= body.lids.area;
+    body.shellFirst -= body.lids.first;
+    body.shellSecond -= body.lids.second;
     tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.massChunkBegin,
                          sums.size() * sizeof(layout::BlockGeometry));
     body.massPending = false;

@@ -78,6 +78,13 @@ Status FloatingBodySettings::validate() const {
     if (Status s = shape.validate(); !s) return Error{"shape: " + s.error().message};
   }
   if (mesh && mesh->triangles.empty()) return Error{"mesh: the mesh has no triangles"};
+  if (mesh) {
+    // Lids over openings (Mesh.hpp) are read in one ascending walk next to the triangles.
+    const std::vector<std::uint32_t>& lids = mesh->openingTriangles;
+    for (std::size_t i = 0; i < lids.size(); ++i)
+      if (lids[i] >= mesh->triangles.size() || (i > 0 && lids[i] <= lids[i - 1]))
+        return Error{"mesh: openingTriangles must be ascending indices of its triangles"};
+  }
   if (resolution < 16 || resolution > 4096) {
     return Error{"resolution: " + std::to_string(resolution) + " is outside 16..4096"};
   }

@@ -189,11 +189,12 @@ Status parseFlooding(ObjectReader& reader, const std::string& baseDirectory, Sce
   HYDROTEX_TRY(reader.number("wall_thickness", flooding.graph.wallThickness));
   HYDROTEX_TRY(reader.number("porosity", flooding.graph.porosity));
   HYDROTEX_TRY(reader.number("interior_permeability", flooding.graph.interiorPermeability));
+  HYDROTEX_TRY(reader.number("opening_conductance", flooding.graph.openingConductance));
   HYDROTEX_TRY(reader.string("liquid_graph", graph));
   HYDROTEX_TRY(reader.integer("liquid_graph_nodes", flooding.nodeCount));
   const bool anyKey = !permeabilityMap.empty() || reader.find("permeability") || reader.find("wall_thickness") ||
                       reader.find("porosity") || reader.find("interior_permeability") || reader.find("liquid_graph") ||
-                      reader.find("liquid_graph_nodes");
+                      reader.find("liquid_graph_nodes") || reader.find("opening_conductance");
   if (!body.effects.has(Effect::Flooding)) {
     if (anyKey) return reader.error("effects", "flooding keys need \"flooding\" in effects");
     return Ok{};
@@ -202,6 +203,7 @@ Status parseFlooding(ObjectReader& reader, const std::string& baseDirectory, Sce
   if (!(flooding.graph.wallThickness > 0.0)) return reader.error("wall_thickness", "must be > 0 (m)");
   if (!(flooding.graph.porosity >= 0.0 && flooding.graph.porosity <= 1.0)) return reader.error("porosity", "must lie in 0..1");
   if (!(flooding.graph.interiorPermeability >= 0.0)) return reader.error("interior_permeability", "must be >= 0 (m^2)");
+  if (!(flooding.graph.openingConductance >= 0.0)) return reader.error("opening_conductance", "must be >= 0 (m)");
   if (flooding.nodeCount < 0 || flooding.nodeCount > 1024) return reader.error("liquid_graph_nodes", "must lie in 0..1024");
   if (!permeabilityMap.empty()) {
     const std::filesystem::path mapPath = std::filesystem::path(baseDirectory) / permeabilityMap;
@@ -358,6 +360,11 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
     body.load.repair.enabled = repair->get<bool>();
   }
   HYDROTEX_TRY(reader.number("max_hole_fraction", body.load.repair.maxHoleFraction));
+  if (const Json* openHull = reader.find("open_hull")) {
+    // A boundary loop too large to be a hole is an opening, capped by a massless, open lid.
+    if (!openHull->is_boolean()) return reader.error("open_hull", "expected true or false");
+    body.load.repair.openHull = openHull->get<bool>();
+  }
   if (Status valid = body.load.repair.validate(); !valid) return reader.error("max_hole_fraction", valid.error().message);
   HYDROTEX_TRY(reader.optionalNumber("density", body.density));
   HYDROTEX_TRY(reader.optionalNumber("mass", body.mass));
@@ -679,7 +686,8 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene, con
       // The same file read with other axes, scale or repairs is another mesh.
       const MeshLoadSettings& load = sceneBody.load;
       const std::string key = sceneBody.meshPath + (load.up == UpAxis::Z ? "|z|" : "|y|") + std::to_string(load.scale) +
-                              (load.repair.enabled ? "|repair|" : "|as-is|") + std::to_string(load.repair.maxHoleFraction);
+                              (load.repair.enabled ? "|repair|" : "|as-is|") + std::to_string(load.repair.maxHoleFraction) +
+                              (load.repair.openHull ? "|open" : "");
       auto cached = meshCache.find(key);
       if (cached == meshCache.end()) {
         Expected<Mesh> loaded = loadSceneMesh(sceneBody);

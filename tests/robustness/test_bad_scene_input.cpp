@@ -37,7 +37,7 @@ Json fullScene() {
         "rotation_deg": [0, 10, 0], "linear_velocity": [0, 0, 0], "angular_velocity": [0, 0, 0],
         "resolution": 32, "method": "texture",
         "effects": ["buoyancy", "drag", "variable_mass", "deformation"],
-        "shell_density": 1.0,
+        "shell_density": 1.0, "open_hull": false,
         "point_masses": [ { "mass": 10, "position": [0, 0, 0], "path": [[0, 0, 0, 0], [1, 0.1, 0, 0]] } ],
         "deform": { "type": "scale", "keyframes": [[0, 1, 1, 1], [1, 1.1, 1, 1]] } }
     ]

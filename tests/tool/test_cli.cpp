@@ -241,3 +241,36 @@ TEST_CASE("a hole too large to close is refused with one line naming it", "[tool
   REQUIRE(closed.exitCode == 0);
   CHECK(nlohmann::json::parse(closed.out)["volume"].get<double>() == Approx(1.0).epsilon(1e-12));
 }
+
+TEST_CASE("--open-hull caps a deckless box with a lid that inspect lists", "[tool][repair][open_hull]") {
+  // The unit cube without its top face (y = 1), as above: an open hull by design.
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n";
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 1 5 7 3\nf 2 4 8 6\n";
+  const std::string path = writeScratch("open_top_box_lid.obj", obj);
+  const ToolRun inspect = runTool("inspect " + path + " --open-hull --json");
+  REQUIRE(inspect.exitCode == 0);
+  const auto json = nlohmann::json::parse(inspect.out);
+  REQUIRE(json["repairs"]["lids"].size() == 1);
+  // Sums of four unit edges and of the fan's four triangles: exact in double.
+  CHECK(json["repairs"]["lids"][0]["loop_length"].get<double>() == Approx(4.0).epsilon(1e-12));
+  CHECK(json["repairs"]["lids"][0]["area"].get<double>() == Approx(1.0).epsilon(1e-12));
+  CHECK(json["repairs"]["not_repaired"].empty());
+  CHECK(json["volume"].get<double>() == Approx(1.0).epsilon(1e-12));
+  // The closed volume floats it: 300 kg in 1000 kg/m^3 on a 1 m^2 water plane draws 0.3 m
+  // (exact path: polyhedral clipping, rounding only), upright with its centre of mass low
+  // (GM = 0.15 + 1 / (12 x 0.3) - 0.2 = 0.23 m).
+  const ToolRun floating = runTool("equilibrium " + path + " --open-hull --mass 300 --center-of-mass 0.5,0.2,0.5 --json");
+  REQUIRE(floating.exitCode == 0);
+  CHECK(nlohmann::json::parse(floating.out)["draft"].get<double>() == Approx(0.3).epsilon(1e-6));
+  // Weighed from its walls: 60 kg/m^2 over 5 m^2 is 300 kg, centred at y = (1 x 0 + 4 x 0.5) / 5
+  // = 0.4 m, not at the closed cube's 0.5 m (exact triangle sums: 1e-12).
+  const ToolRun shell = runTool("equilibrium " + path + " --open-hull --shell-density 60 --json");
+  REQUIRE(shell.exitCode == 0);
+  const auto shellJson = nlohmann::json::parse(shell.out);
+  CHECK(shellJson["mass"].get<double>() == Approx(300.0).epsilon(1e-12));
+  CHECK(shellJson["center_of_mass"][1].get<double>() == Approx(0.4).epsilon(1e-12));
+  // Still upright (GM = 0.15 + 1 / (12 x 0.3) - 0.4 = 0.028 m) at 0.3 m.
+  CHECK(shellJson["draft"].get<double>() == Approx(0.3).epsilon(1e-6));
+  // Without repair there is nothing to cap: refused as an open mesh, with one line.
+  requireCleanFailure(runTool("mass " + path + " --method exact --open-hull --no-repair"), "open");
+}

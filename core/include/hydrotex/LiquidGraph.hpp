@@ -45,7 +45,8 @@ struct LiquidNodeSpace {
   std::vector<float> volumes;            ///< m^3 per cell (> 0), same order as centers
 };
 
-/// A texel of the surface that lets liquid through, and the node it feeds.
+/// A texel of the surface that lets liquid through, and the node it feeds (a texel holding
+/// pieces of a wall and of a lid over an opening gives one for each).
 struct PermeableTexel {
   Eigen::Vector3f position = Eigen::Vector3f::Zero();  ///< m, body frame (PT)
   /// k A / L (m^3): the texel's Darcy permeability (m^2, the permeability map's value times the

@@ -37,6 +37,13 @@ struct LiquidGraphBuildSettings {
   double interiorPermeability = 1.0e-6;
   /// About this many cells in the bounding box carry the nodes' spaces (more: smoother levels).
   int cellBudget = 16384;
+  /// Transmissibility per square metre of an opening (m: k / L), for the texels of lids over the
+  /// openings of an open hull (SurfaceTextures::openingArea), which let liquid through as an
+  /// open hole, whatever the wall's permeability, thickness or map. Default 1e-6 m: for water,
+  /// the flow of an orifice (Torricelli, discharge coefficient 0.6, Cd sqrt(2 g h) per m^2) at
+  /// h = 7 cm of head, the depth a gunwale goes under while a boat swamps; this linear law (the
+  /// one Darcy law of the graph) passes more above that head and less below it.
+  double openingConductance = 1.0e-6;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
 };
@@ -69,7 +76,11 @@ int defaultLiquidGraphNodeCount(const Mesh& mesh);
 
 /// Automatic graph of `nodeCount` nodes (0: defaultLiquidGraphNodeCount) for a closed mesh and its
 /// evaluated texels. `texelPermeability`: one value in [0,1] per covered texel (the permeability
-/// map resampled with resampleToTexels), or empty for a wholly permeable surface. Deterministic.
+/// map resampled with resampleToTexels), or empty for a wholly permeable surface; but the walls
+/// of an open hull (textures with openingArea) are watertight without a map, so that liquid
+/// enters through its openings only. The part of a texel on a lid over an opening is a
+/// permeable texel of its own, at the lid's centroid in that texel, passing
+/// settings.openingConductance times its area. Deterministic.
 /// Errors: settings, a count outside 0..1024, a map of the wrong size or with values outside
 /// [0,1], a mesh that encloses no cell.
 Expected<LiquidGraph> buildAutomaticLiquidGraph(const Mesh& mesh, const SurfaceTextures& textures,

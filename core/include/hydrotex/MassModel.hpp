@@ -137,7 +137,7 @@ class MassModel {
   Conserved shellConserved() const { return shellConserved_; }
   /// Enclosed volume (m^3) of the current geometry.
   double volume() const { return triangles_ ? triangles_->volume() : integrator_.volume(); }
-  /// Surface area (m^2) of the current geometry.
+  /// Surface area (m^2) of the current geometry that carries the shell (lids over openings excluded).
   double area() const { return triangles_ ? triangles_->area() : integrator_.area(); }
   /// Number of covered texels (the size a density map must have).
   std::size_t texelCount() const { return triangles_ ? triangles_->texelCount() : integrator_.size(); }

@@ -24,10 +24,17 @@ struct MassProperties {
 /// precision. Error when the mesh is open, empty, or has non-finite vertices, or density <= 0.
 Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density);
 
+/// Exact mass properties of a shell of uniform `arealDensity` (kg/m^2) over the triangles of
+/// `mesh`, lids over openings (Mesh::openingTriangles) left out: an open hull's own mass. The
+/// mesh need not be closed; `volume` is 0 (a shell encloses nothing of its own). Error when the
+/// density is not positive and finite, the mesh has no triangles or no area outside its lids,
+/// a vertex is not finite or an index is out of range.
+Expected<MassProperties> polyhedralShellMassProperties(const Mesh& mesh, double arealDensity);
+
 /// What a body is made of, for the texture path (docs/design.md "Mass model").
 struct TextureMassModel {
   double solidDensity = 1000.0;    ///< kg/m^3 filling the enclosed volume (0: hollow)
-  double shellDensity = 0.0;       ///< kg/m^2 over the surface (hulls, buoys)
+  double shellDensity = 0.0;       ///< kg/m^2 over the surface (hulls, buoys), lids over openings excluded
   /// Optional per covered texel density (kg/m^3), replacing solidDensity: a texel's density fills
   /// the cone from `referencePoint` to that texel. Empty: uniform solidDensity.
   std::vector<float> texelDensity;
@@ -68,7 +75,8 @@ class TextureMassIntegrator {
   std::size_t size() const { return count_; }
   /// Enclosed volume (m^3): the sum of the cone volumes (exact up to float rounding).
   double volume() const { return totalVolume_; }
-  /// Surface area (m^2): the sum of the texel areas.
+  /// Surface area (m^2) that carries the shell: the sum of the texel areas, less the lids over
+  /// openings (SurfaceTextures::openings, subtracted exactly).
   double area() const { return shellArea_; }
 
  private:

@@ -4,6 +4,7 @@
 /// A triangle mesh with (optional) texture coordinates, as loaded from any file assimp reads.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,9 +34,17 @@ struct Mesh {
   /// Metres per unit that the file itself declared and the import applied (COLLADA's
   /// <unit meter="...">, as the scale of assimp's root node): 1 when the file declares none.
   double fileUnitScale = 1.0;
+  /// Triangles (indices into `triangles`, ascending) of lids that repair generated over the
+  /// openings of an open hull (RepairSettings::openHull): they close the volume, so that volume and
+  /// buoyancy are those of the hull up to its rim, but they are not material. Their texels carry
+  /// no shell mass and let liquid through as an open hole (SurfaceTextures::openingArea).
+  /// Empty for a closed hull.
+  std::vector<std::uint32_t> openingTriangles;
 
   /// True when the file provided texture coordinates for every triangle.
   bool hasUvs() const { return uv.coversTriangles(triangles.size()); }
+  /// True when some triangles are lids over openings (an open hull).
+  bool hasOpenings() const { return !openingTriangles.empty(); }
 };
 
 }  // namespace hydrotex

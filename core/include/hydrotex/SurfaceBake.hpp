@@ -53,6 +53,26 @@ struct SurfaceBake {
   int tilesY() const { return (height + tileSize - 1) / tileSize; }
 };
 
+/// Area moments of the lids over a mesh's openings (Mesh::openingTriangles), exact from their
+/// triangles: what a shell summed over the texels leaves out, since a lid is no material. A texel
+/// on the rim holds pieces of lid and wall at one position, so subtracting the lid's exact
+/// moments from the texels' sums keeps the walls' centre of mass exact where a per-texel share
+/// would move the walls' part of such texels towards the lid.
+struct OpeningMoments {
+  double area = 0.0;                                 ///< m^2
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();   ///< integral of x dA about the mesh origin (m^3)
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();  ///< integral of x x^T dA about the mesh origin (m^4)
+  /// The same moments about `point` (m, mesh frame): integrals of (x - point) dA and
+  /// (x - point)(x - point)^T dA.
+  OpeningMoments about(const Eigen::Vector3d& point) const {
+    OpeningMoments out;
+    out.area = area;
+    out.first = first - area * point;
+    out.second = second - first * point.transpose() - point * first.transpose() + area * point * point.transpose();
+    return out;
+  }
+};
+
 /// Per covered texel surface quantities, in the body (mesh) frame, evaluated from a bake and the
 /// mesh's current vertex positions. Same order as SurfaceBake::texelIndex.
 struct SurfaceTextures {
@@ -72,6 +92,17 @@ struct SurfaceTextures {
   /// Same for d position / d v times the texel height (1 / height); v grows upwards (towards
   /// row 0, Mesh.hpp).
   std::vector<Eigen::Vector3f> edgeV;
+  /// Per texel, the part of it on lids over openings (Mesh::openingTriangles), which carries no
+  /// shell and no drag and lets liquid through as an open hole: its area (m^2), area vector
+  /// (m^2) and area-weighted centroid (m; the texel's position where it has none). Kept apart
+  /// from the texel's own sums because a packed atlas may put pieces of a lid and of a wall
+  /// (even the bottom, facing the other way) in one texel, whose position is then neither's.
+  /// All three are empty when the mesh has no openings (a closed hull): no part anywhere.
+  std::vector<float> openingArea;
+  std::vector<Eigen::Vector3f> openingAreaVector;  ///< see openingArea
+  std::vector<Eigen::Vector3f> openingPosition;    ///< see openingArea
+  /// The lids' exact area moments (zero for a closed hull), for the shell (MassProperties.hpp).
+  OpeningMoments openings;
 
   /// Number of covered texels.
   std::size_t size() const { return position.size(); }
@@ -87,6 +118,8 @@ Expected<SurfaceBake> bakeSurface(const Mesh& mesh, const UvLayout& layout, cons
 /// ones of the same topology: deforming bodies). O(triangles + pieces). A texel whose pieces'
 /// area vectors nearly cancel (|A| < 0.1 area: it straddles opposite-facing charts) keeps its
 /// unshifted centroid. Pieces naming a triangle the mesh lacks are skipped (never a crash).
+/// openingArea, openingAreaVector, openingPosition and openings are filled when the mesh has openings (at these vertices; a
+/// deforming body keeps those of its rest mesh: SurfaceEvaluator leaves them as they are).
 SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const UvLayout& layout);
 
 }  // namespace hydrotex

@@ -69,7 +69,8 @@ Eigen::Vector3d texelDragForceWithFriction(const Eigen::Vector3d& areaVector, do
 /// `maxPatchRadius` (m) of it: the radius bounds how much of the lever arm (rotational damping,
 /// which goes as the second moment of the area) merging loses, as (radius / lever arm)^2: a tenth
 /// of a cube's size loses about 1 % of the torque of a spinning cube, a fifth 4 %; a body spinning
-/// about its long axis has shorter lever arms and loses more (test_texel_drag.cpp). Texels with no area are skipped. `textures` must match `bake` (same covered
+/// about its long axis has shorter lever arms and loses more (test_texel_drag.cpp). Texels with no area are skipped;
+/// the part of a texel on a lid over an opening (SurfaceTextures::openingArea) feels no drag. `textures` must match `bake` (same covered
 /// count); a mismatch returns an empty list.
 std::vector<DragPatch> mergeTexelsIntoDragPatches(const SurfaceBake& bake, const SurfaceTextures& textures,
                                                   double normalCosine = 0.9,

@@ -59,7 +59,8 @@ class TriangleMassIntegrator {
 
   /// Enclosed volume (m^3) of the last updated mesh (exact polyhedral volume; 0 before any).
   double volume() const { return volume_; }
-  /// Surface area (m^2) of the last updated mesh (exact; 0 before any).
+  /// Surface area (m^2) of the last updated mesh that carries the shell: lids over openings
+  /// (Mesh::openingTriangles) excluded (exact; 0 before any).
   double area() const { return area_; }
   /// Number of covered texels (the size a density map must have).
   std::size_t texelCount() const { return texelCount_; }

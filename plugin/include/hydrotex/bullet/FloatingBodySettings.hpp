@@ -98,7 +98,9 @@ struct WettingBodySettings {
 /// How a body that lists Effect::Flooding takes on liquid (paper section 3).
 struct FloodingBodySettings {
   /// Permeability map (PMT; gray levels 0..1 at the texel centres of the physics atlas): black is
-  /// watertight, white lets liquid through with graph.permeability. Null: the whole surface is white.
+  /// watertight, white lets liquid through with graph.permeability. Null: the whole surface is white,
+  /// except for an open hull, whose walls are then black: liquid enters through its openings
+  /// (lids, graph.openingConductance), pouring in once they go under.
   std::shared_ptr<const ImageMap> permeabilityMap;
   /// Darcy permeability of white (m^2), wall thickness (m), porosity, permeability inside, cells.
   LiquidGraphBuildSettings graph;
@@ -163,7 +165,8 @@ struct FloatingBodySettings {
   /// body's own mass) keeps that mass: its density follows the volume.
   std::optional<double> mass;
   /// Shell areal density (kg/m^2) over the whole surface at registration: hulls, buoys, balloon
-  /// envelopes. With a shell or a density map and neither density nor mass, the body is hollow (no
+  /// envelopes. Lids over the openings of an open hull (MeshLoadSettings::repair.openHull,
+  /// Mesh::openingTriangles) have none: an open hull's mass is its shell's (and its loads'). With a shell or a density map and neither density nor mass, the body is hollow (no
   /// solid part). A deforming body's shell keeps its mass as its area stretches (a balloon's
   /// envelope gets thinner) unless the mass model is changed (MassModel::setShellDensity with
   /// Conserved::Density). A density map keeps its densities.

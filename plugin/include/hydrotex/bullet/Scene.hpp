@@ -59,7 +59,7 @@ struct SceneBody {
   std::shared_ptr<const Mesh> mesh;                          ///< given directly (tests), or ...
   std::string meshPath;                                      ///< ... loaded from this file (`mesh`), or ...
   std::optional<SceneShape> shape;                           ///< ... a Bullet primitive (`shape`)
-  MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`
+  MeshLoadSettings load;                                     ///< `up` ("y"/"z"), `scale`, `repair` (bool), `max_hole_fraction`, `open_hull` (bool)
   std::optional<double> density;                             ///< kg/m^3 (uniform solid; kept when it deforms: the mass follows the volume)
   std::optional<double> mass;                                ///< kg (uniform solid; kept when it deforms: the density follows the volume)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();        ///< m, mesh frame origin in the world
@@ -75,7 +75,7 @@ struct SceneBody {
   std::vector<PointMass> pointMasses;                        ///< `point_masses`: {mass, position, path}
   std::vector<ScaleKeyframe> scaleKeyframes;                 ///< `deform: {type: "scale", keyframes}`
   WettingBodySettings wetting;                               ///< `wetting: {resolution, diffusivity, porosity, permeability, humidity, temperature, sources}`
-  FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `liquid_graph`, `liquid_graph_nodes`
+  FloodingBodySettings flooding;                             ///< `permeability_map`, `permeability`, `wall_thickness`, `porosity`, `interior_permeability`, `opening_conductance`, `liquid_graph`, `liquid_graph_nodes`
   bool soft = false;                                         ///< `soft: true`: a btSoftBody (nodes: the mesh's vertices), buoyancy only; its nodes keep the mass (density: of the rest mesh)
   SoftMaterial softMaterial;                                 ///< `soft_material` (soft bodies only)
 };
