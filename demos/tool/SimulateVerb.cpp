@@ -18,7 +18,6 @@
 #include "Verbs.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/SoftBodyMotion.hpp"
-#include "hydrotex/gpu/MakeBackend.hpp"
 
 namespace hydrotex::tool {
 namespace {
@@ -101,7 +100,7 @@ int runSimulate(const SimulateOptions& options) {
   if (!scene) return reportError(scene.error());
   if (threads) scene->threads = *threads;
   if (!options.backend.empty()) scene->backend = options.backend;
-  Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene, gpu::makeControllerBackend);
+  Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene, controllerBackend);
   if (!created) return reportError(created.error());
   bullet::SceneWorld& sceneWorld = **created;
 

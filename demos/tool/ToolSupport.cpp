@@ -58,6 +58,15 @@ Expected<std::unique_ptr<ComputeBackend>> makeToolBackend(const std::string& nam
 }
 }  // namespace
 
+Expected<std::shared_ptr<ComputeBackend>> controllerBackend(const std::string& name) {
+#ifdef HYDROTEX_WITH_GPU
+  return gpu::makeControllerBackend(name);
+#else
+  if (name == "cpu" || name == "auto") return std::shared_ptr<ComputeBackend>();  // the controller's own
+  return Error{"\"" + name + "\": this hydrotex was built without the GPU backend (hydrotex::gpu)"};
+#endif
+}
+
 Expected<BackendBody> registerWithBackend(const std::string& backendName, const SurfaceBake& bake,
                                           const SurfaceTextures& textures, const Eigen::Vector3d& massReferencePoint) {
   Expected<std::unique_ptr<ComputeBackend>> backend = makeToolBackend(backendName);

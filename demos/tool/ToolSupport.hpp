@@ -49,6 +49,11 @@ struct BackendBody {
   BackendBodyId id = 0;                     ///< the body in that backend
 };
 
+/// A BuoyancyController's backend by name (scene key `backend`, `simulate --backend`), for
+/// SceneWorld::create: hydrotex::gpu::makeControllerBackend when this tool has the GPU backend;
+/// without it "cpu" and "auto" give the controller's own CPU backend (null) and "gpu" an error.
+Expected<std::shared_ptr<ComputeBackend>> controllerBackend(const std::string& name);
+
 /// Opens the backend named `backendName` and registers the baked body with the cone apex
 /// `massReferencePoint` (m, body frame). Errors name the backend or the mesh.
 Expected<BackendBody> registerWithBackend(const std::string& backendName, const SurfaceBake& bake,

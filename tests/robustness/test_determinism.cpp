@@ -276,6 +276,7 @@ TEST_CASE("hydrotex simulate writes byte-identical CSV with 1, 2 and 8 threads",
   CHECK(csv[2] == csv[0]);
 }
 
+#ifdef HYDROTEX_TOOL_HAS_GPU
 TEST_CASE("hydrotex simulate --backend runs the controller on the named backend", "[robustness][tool][backends]") {
   using hydrotex::test::runTool;
   const std::string scene = sourcePath("data/scenes/box_floating.json");
@@ -303,4 +304,5 @@ TEST_CASE("hydrotex simulate --backend runs the controller on the named backend"
   const double glVolume = summary[1]["bodies"][0]["submerged_volume"].get<double>();
   CHECK(std::abs(cpuVolume - glVolume) < 1e-4);
 }
+#endif  // HYDROTEX_TOOL_HAS_GPU
 #endif
