@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "hydrotex/gpu/EglContext.hpp"
 #include "hydrotex/gpu/GlBackend.hpp"
 
 namespace hydrotex::gpu {
@@ -30,14 +31,20 @@ Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name, Par
 Expected<std::shared_ptr<ComputeBackend>> makeControllerBackend(std::string_view name) {
   if (name == "cpu") return std::shared_ptr<ComputeBackend>();
   if (name != "gpu" && name != "gl" && name != "auto") return Error{"backend '" + std::string(name) + "' is unknown (cpu, gpu or auto)"};
-  Expected<std::unique_ptr<ComputeBackend>> gl = makeGlBackend();
+  Expected<std::unique_ptr<EglContext>> context = EglContext::create();
+  if (!context) {
+    if (name == "auto") return std::shared_ptr<ComputeBackend>();
+    return Error{"gpu backend: " + context.error().message};
+  }
+  // "auto" wants a GPU: a software rasterizer (Mesa's llvmpipe, softpipe) runs the same passes
+  // on the CPU, slower than the CPU backend, so it is passed over before any shader is compiled
+  // (asked for by name, it is used).
+  if (name == "auto" && isSoftwareRenderer((*context)->renderer())) return std::shared_ptr<ComputeBackend>();
+  Expected<std::unique_ptr<ComputeBackend>> gl = makeGlBackend(std::move(context).value());
   if (!gl) {
     if (name == "auto") return std::shared_ptr<ComputeBackend>();
     return gl.error();
   }
-  // "auto" wants a GPU: a software rasterizer (Mesa's llvmpipe, softpipe) runs the same passes
-  // on the CPU, slower than the CPU backend, so it is passed over (asked for by name, it is used).
-  if (name == "auto" && isSoftwareRenderer((*gl)->renderer())) return std::shared_ptr<ComputeBackend>();
   return std::shared_ptr<ComputeBackend>(std::move(gl).value());
 }
 
