@@ -73,6 +73,15 @@ void exercise(hydrotex::Mesh mesh) {
     (void)validateMesh(repaired, false);
     (void)polyhedralMassProperties(repaired, 1000.0);
   }
+  // The open-hull repair too: loops too large to be holes capped by lids (RepairSettings::openHull).
+  Mesh opened = mesh;
+  RepairSettings openHull;
+  openHull.openHull = true;
+  if (const Expected<RepairReport> repairs = repairMesh(opened, openHull)) {
+    (void)repairs->summary();
+    (void)validateMesh(opened, false);
+    (void)polyhedralMassProperties(opened, 1000.0);
+  }
   (void)countEdgeTopology(mesh);
   const Expected<MassProperties> exact = polyhedralMassProperties(mesh, 1000.0);
   const FlatSurface water(0.0, 1000.0);
