@@ -38,13 +38,9 @@ Subexpressions subexpressions(double w0, double w1, double w2) {
   return s;
 }
 
-}  // namespace
-
-Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density) {
-  const std::string name = mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName;
-  if (!(density > 0.0) || !std::isfinite(density))
-    return Error{name + ": density " + std::to_string(density) + " kg/m^3 must be positive and finite"};
-  if (mesh.triangles.empty()) return Error{name + ": no triangles, no volume"};
+/// Every vertex finite and every index in range (messages start with `name`): what both the solid
+/// and the shell integrals need before they sum.
+Status checkVerticesAndIndices(const Mesh& mesh, const std::string& name) {
   const int vertexCount = static_cast<int>(mesh.positions.size());
   for (std::size_t i = 0; i < mesh.positions.size(); ++i)
     if (!mesh.positions[i].allFinite()) return Error{name + ": vertex " + std::to_string(i) + " is not finite"};
@@ -52,6 +48,17 @@ Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double densi
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] < 0 || mesh.triangles[t][k] >= vertexCount)
         return Error{name + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
+  return Ok{};
+}
+
+}  // namespace
+
+Expected<MassProperties> polyhedralMassProperties(const Mesh& mesh, double density) {
+  const std::string name = mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName;
+  if (!(density > 0.0) || !std::isfinite(density))
+    return Error{name + ": density " + std::to_string(density) + " kg/m^3 must be positive and finite"};
+  if (mesh.triangles.empty()) return Error{name + ": no triangles, no volume"};
+  if (Status usable = checkVerticesAndIndices(mesh, name); !usable) return usable.error();
   if (Status closed = checkClosed(mesh, name); !closed) return closed.error();
   // A closed mesh with one part inside out sums to a plausible positive volume but a centre of
   // mass and inertia that are wrong (negative diagonal terms): refuse it (repairMesh turns it).
@@ -124,13 +131,7 @@ Expected<MassProperties> polyhedralShellMassProperties(const Mesh& mesh, double 
   if (!(arealDensity > 0.0) || !std::isfinite(arealDensity))
     return Error{name + ": shell density " + std::to_string(arealDensity) + " kg/m^2 must be positive and finite"};
   if (mesh.triangles.empty()) return Error{name + ": no triangles, no shell"};
-  const int vertexCount = static_cast<int>(mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-    if (!mesh.positions[i].allFinite()) return Error{name + ": vertex " + std::to_string(i) + " is not finite"};
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      if (mesh.triangles[t][k] < 0 || mesh.triangles[t][k] >= vertexCount)
-        return Error{name + ": triangle " + std::to_string(t) + " has a vertex index out of range"};
+  if (Status usable = checkVerticesAndIndices(mesh, name); !usable) return usable.error();
   // About the bounding-box centre, as above; a triangle's area moments a s / 3, a q / 12.
   Eigen::Vector3d lo = mesh.positions[0], hi = lo;
   for (const auto& p : mesh.positions) {
