@@ -18,6 +18,17 @@ namespace hydrotex {
 
 namespace {
 
+/// The radius of a sphere about `parent`'s box centre holding the bounding spheres of its tiles
+/// [begin, end) (a group's or a block's), never more than its box's half diagonal; widened by
+/// 1e-6 so that rounding cannot put a child's sphere outside.
+template <class Tiles, class Parent>
+double enclosingRadius(const Tiles& tiles, const Parent& parent) {
+  double radius = 0.0;
+  for (std::uint32_t g = parent.begin; g < parent.end; ++g)
+    radius = std::max(radius, (tiles[g].boundsCenter - parent.boundsCenter).norm() + tiles[g].boundsRadius);
+  return std::min(radius * (1.0 + 1e-6), parent.boundsHalfExtent.norm());
+}
+
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
 
@@ -273,10 +284,7 @@ void TextureHydrostatics::refresh() {
     }
     group.boundsCenter = 0.5 * (groupLow + groupHigh);
     group.boundsHalfExtent = 0.5 * (groupHigh - groupLow);
-    double groupRadius = 0.0;
-    for (std::uint32_t g = group.begin; g < group.end; ++g)
-      groupRadius = std::max(groupRadius, (tiles_[g].boundsCenter - group.boundsCenter).norm() + tiles_[g].boundsRadius);
-    group.boundsRadius = std::min(groupRadius * (1.0 + 1e-6), group.boundsHalfExtent.norm());
+    group.boundsRadius = enclosingRadius(tiles_, group);
     total_.add(group.moments);
     bodyLow = bodyLow.cwiseMin(groupLow);
     bodyHigh = bodyHigh.cwiseMax(groupHigh);
@@ -293,10 +301,7 @@ void TextureHydrostatics::refresh() {
     }
     block.boundsCenter = 0.5 * (low + high);
     block.boundsHalfExtent = 0.5 * (high - low);
-    double radius = 0.0;
-    for (std::uint32_t g = block.begin; g < block.end; ++g)
-      radius = std::max(radius, (tiles_[g].boundsCenter - block.boundsCenter).norm() + tiles_[g].boundsRadius);
-    block.boundsRadius = std::min(radius * (1.0 + 1e-6), block.boundsHalfExtent.norm());
+    block.boundsRadius = enclosingRadius(tiles_, block);
   }
   boundsCenter_ = 0.5 * (bodyLow + bodyHigh);
   boundsHalfExtent_ = 0.5 * (bodyHigh - bodyLow);

@@ -25,9 +25,8 @@
 #include "hydrotex/gpu/ShaderLayouts.hpp"
 using gpuTexelRecord = hydrotex::gpu::layout::HydroTexel;
 #else
-struct gpuTexelRecord {
-  float values[12];  // the GL HydroTexel's size, for the floor's arithmetic
-};
+#include "hydrotex/TextureHydrostatics.hpp"
+using gpuTexelRecord = hydrotex::TextureHydrostatics::Texel;  // no GL here: the CPU's texel record
 #endif
 
 using namespace hydrotex;

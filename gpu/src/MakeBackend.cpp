@@ -17,13 +17,13 @@ bool isSoftwareRenderer(std::string_view renderer) {
   return false;
 }
 
-Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name, ParallelFor parallelFor) {
-  if (name == "cpu") return makeCpuBackend(std::move(parallelFor));
+Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name) {
+  if (name == "cpu") return makeCpuBackend();
   if (name == "gpu" || name == "gl") return makeGlBackend();
   if (name == "auto") {
     Expected<std::unique_ptr<ComputeBackend>> gl = makeGlBackend();
     if (gl) return gl;
-    return makeCpuBackend(std::move(parallelFor));
+    return makeCpuBackend();
   }
   return Error{"backend '" + std::string(name) + "' is unknown (cpu, gpu or auto)"};
 }

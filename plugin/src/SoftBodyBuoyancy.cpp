@@ -213,13 +213,15 @@ void SoftBodyBuoyancy::applyDrag(const LiquidSurface& surface, double time, doub
 
   // One skin friction coefficient per body and step from its Reynolds number, as for rigid bodies
   // (the ITTC line is a whole-body correlation); the reference length is the nodes' largest extent.
-  Eigen::Vector3d lower = mesh_.positions.front(), upper = lower;
-  for (const Eigen::Vector3d& p : mesh_.positions) {
-    lower = lower.cwiseMin(p);
-    upper = upper.cwiseMax(p);
+  double friction = 0.0;
+  if (settings_.drag.skinFrictionScale > 0.0 && liquid.viscosity > 0.0) {  // the extent only when friction needs it
+    Eigen::Vector3d lower = mesh_.positions.front(), upper = lower;
+    for (const Eigen::Vector3d& p : mesh_.positions) {
+      lower = lower.cwiseMin(p);
+      upper = upper.cwiseMax(p);
+    }
+    friction = bodySkinFriction(density, meanVelocity.norm(), (upper - lower).maxCoeff(), liquid.viscosity, settings_.drag);
   }
-  const double friction =
-      bodySkinFriction(density, meanVelocity.norm(), (upper - lower).maxCoeff(), liquid.viscosity, settings_.drag);
 
   // Texel by texel: the law on the texel's relative velocity (its pieces' barycentric node
   // velocities, weighted by area), times its wet fraction; the force back to the nodes as the

@@ -10,12 +10,12 @@
 
 namespace hydrotex::gpu {
 
-/// "cpu": makeCpuBackend(parallelFor); "gpu" (or "gl"): the GL compute backend on a headless EGL
+/// "cpu": makeCpuBackend(); "gpu" (or "gl"): the GL compute backend on a headless EGL
 /// context; "auto": the GL one when an EGL device with GL 4.3 opens, else the CPU one (the only
 /// silent choice: name() says which was made). Errors: an unknown name, or no GL context for
 /// "gpu" (the message says why; no fallback is taken, so that a figure labelled gpu was measured
 /// on one).
-Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name, ParallelFor parallelFor = {});
+Expected<std::unique_ptr<ComputeBackend>> makeBackend(std::string_view name);
 
 /// True for a GL_RENDERER string of a software rasterizer (Mesa's llvmpipe, softpipe, swrast;
 /// SwiftShader): GL that runs on the CPU.
