@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 namespace {
 

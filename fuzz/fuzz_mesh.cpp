@@ -10,15 +10,15 @@
 #include <cstring>
 #include <string>
 
-#include "hydrotex/Atlas.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/MeshRepair.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/mesh/Atlas.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/MeshRepair.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 namespace {
 

@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
-#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
 #ifdef HYDROTEX_WITH_GPU
 #include "hydrotex/gpu/MakeBackend.hpp"
 #include "hydrotex/gpu/ShaderLayouts.hpp"
 using gpuTexelRecord = hydrotex::gpu::layout::HydroTexel;
 #else
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 using gpuTexelRecord = hydrotex::TextureHydrostatics::Texel;  // no GL here: the CPU's texel record
 #endif
 

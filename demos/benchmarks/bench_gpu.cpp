@@ -23,16 +23,16 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ComputeBackend.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #if defined(HYDROTEX_WITH_GPU)
 #include "hydrotex/gpu/GlBackend.hpp"
 #include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/GlWettingDiffusion.hpp"
 #endif
-#include "hydrotex/TexelAdjacency.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 
 #include "BenchmarkTiming.hpp"
 

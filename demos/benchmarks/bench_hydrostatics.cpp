@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 using namespace hydrotex;
 

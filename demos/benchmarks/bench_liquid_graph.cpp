@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/LiquidGraph.hpp"
-#include "hydrotex/LiquidGraphBuilder.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/flooding/LiquidGraph.hpp"
+#include "hydrotex/flooding/LiquidGraphBuilder.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using namespace hydrotex;
 using Clock = std::chrono::steady_clock;

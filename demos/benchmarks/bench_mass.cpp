@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 
 #include "BenchmarkTiming.hpp"
 

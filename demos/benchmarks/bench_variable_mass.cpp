@@ -17,12 +17,12 @@
 
 #include <time.h>
 
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/SurfaceEvaluator.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
-#include "hydrotex/TriangleMassIntegrator.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/SurfaceEvaluator.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
+#include "hydrotex/mass/TriangleMassIntegrator.hpp"
 
 using namespace hydrotex;
 

@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/LiquidDensityField.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/wetting/LiquidDensityField.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #ifdef HYDROTEX_WITH_GPU
 #include <chrono>
 

@@ -14,8 +14,8 @@
 #include "Camera.hpp"
 #include "DebugLineCollector.hpp"
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::render {
 

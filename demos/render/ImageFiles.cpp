@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 
 namespace hydrotex::render {
 

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::render {
 

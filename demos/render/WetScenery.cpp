@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 #include "WetScenery.hpp"
 
-#include "hydrotex/TexelAdjacency.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
 
 namespace hydrotex::render {
 

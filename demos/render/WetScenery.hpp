@@ -11,12 +11,12 @@
 #include <memory>
 #include <string>
 
-#include "hydrotex/BodyGeometry.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/LiquidTexture.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/wetting/LiquidTexture.hpp"
 #include "hydrotex/Pose.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 
 namespace hydrotex::render {

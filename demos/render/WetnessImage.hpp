@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "hydrotex/LiquidTexture.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/wetting/LiquidTexture.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 
 namespace hydrotex::render {
 

@@ -30,14 +30,14 @@
 #include <tuple>
 #include <vector>
 
-#include "hydrotex/Advisor.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ComputeBackend.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/hydrostatics/Advisor.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 #if defined(HYDROTEX_WITH_GPU)
 #include "hydrotex/gpu/GlBackend.hpp"
 #endif

@@ -8,8 +8,8 @@
 
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
-#include "hydrotex/Advisor.hpp"
-#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/hydrostatics/Advisor.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 
 namespace hydrotex::tool {
 

@@ -12,8 +12,8 @@
 
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 
 namespace hydrotex::tool {
 

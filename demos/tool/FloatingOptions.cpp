@@ -8,9 +8,9 @@
 #include <span>
 #include <sstream>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 
 namespace hydrotex::tool {
 

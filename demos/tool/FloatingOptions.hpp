@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "ToolSupport.hpp"
-#include "hydrotex/FloatingEquilibrium.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/hydrostatics/FloatingEquilibrium.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::tool {
 

@@ -7,10 +7,10 @@
 
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
 namespace hydrotex::tool {
 

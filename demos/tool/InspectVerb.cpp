@@ -5,8 +5,8 @@
 
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/MeshValidation.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
 
 namespace hydrotex::tool {
 

@@ -8,10 +8,10 @@
 
 #include "ToolSupport.hpp"
 #include "Verbs.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 
 namespace hydrotex::tool {
 

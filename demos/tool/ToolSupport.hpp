@@ -9,9 +9,9 @@
 #include <string>
 
 #include "Verbs.hpp"
-#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 
 namespace hydrotex::tool {
 

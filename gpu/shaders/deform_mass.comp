@@ -4,7 +4,7 @@
 // (deform_texel.glsl, as deform_texels.comp does for the hydrostatics texels) and written as the
 // mass pass's MassTexel (cone apex-to-base vector d = p - c and cone volume v = d . A / 3), where
 // mass_moments.comp reads it; the block's geometry sums (MassBlock) are those of
-// TextureMassIntegrator::update (core/src/TextureMassProperties.cpp): the cone covariance
+// TextureMassIntegrator::update (core/src/mass/TextureMassProperties.cpp): the cone covariance
 // 3/5 v C with C = min(1, |A| / |eu x ev|) (eu eu^T + ev ev^T) / 12, sum |v|, sum v and the shell
 // sums. So the mass properties of a body deformed on the GPU come from GPU-side texels.
 layout(local_size_x = 64) in;

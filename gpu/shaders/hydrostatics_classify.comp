@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Zlib
 // First pass of flat-surface hydrostatics, one invocation per chunk (the GPU form of
-// TextureHydrostatics' tile hierarchy, core/src/TextureHydrostatics.cpp): a chunk whose bounds lie
+// TextureHydrostatics' tile hierarchy, core/src/hydrostatics/TextureHydrostatics.cpp): a chunk whose bounds lie
 // wholly above the surface writes a zero partial; one wholly under it writes the partial from its
 // pre-summed moments in O(1) (the expansion of HydrostaticSums.cpp, addSubmergedMoments, about the
 // chunk's centre); only a chunk that crosses the surface is appended to its segment's list, which

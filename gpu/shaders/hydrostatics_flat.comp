@@ -3,7 +3,7 @@
 // hydrostatics_classify.comp; chunks wholly above or under it are done there), one workgroup per
 // chunk of up to 256 texels of one body (4 per invocation): each texel is the planar patch
 // p + s eU + t eV, weighted by the exact submerged fractions of that patch
-// (core/src/HydrostaticSums.hpp, waterlineFractions; the same sums as TextureHydrostatics' flat
+// (core/src/hydrostatics/HydrostaticSums.hpp, waterlineFractions; the same sums as TextureHydrostatics' flat
 // path; waterlineFractions in waterline.glsl), reduced in shared memory to one float Partial per
 // chunk.
 layout(local_size_x = 64) in;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Zlib
 // Hydrostatics under a surface that is not a flat plane, the GPU form of the waves-and-grids and
-// medium paths of core's TextureHydrostatics::query (core/src/TextureHydrostatics.cpp): over the
+// medium paths of core's TextureHydrostatics::query (core/src/hydrostatics/TextureHydrostatics.cpp): over the
 // chunks hydrostatics_classify.comp listed (those not wholly above the surface's highest point),
 // one workgroup per chunk of up to 256 texels of one body (4 per invocation). Each texel is the
 // patch p + s eU + t eV under a locally level surface at the height h' the surface has above the

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 // Mass pass, one workgroup per block of 256 texels of one body (TextureMassIntegrator's blocks):
 // cone masses w = rho v, their first moments w d and second moments w d d^T about the reference
-// point (core/src/TextureMassProperties.cpp), the density-weighted |v| and the lowest density,
+// point (core/src/mass/TextureMassProperties.cpp), the density-weighted |v| and the lowest density,
 // reduced in shared memory to one float Partial per block.
 layout(local_size_x = 256) in;
 

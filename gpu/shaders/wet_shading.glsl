@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Zlib
 // Wet appearance of a rough absorbent surface under a liquid film (paper section 4.3), after
 // Lekner and Dorf 1988, "Why some things are darker when wet", Applied Optics 27(7), 1278-1280.
-// The GLSL twin of core/include/hydrotex/WetShading.hpp (the C++ reference, same names with an
+// The GLSL twin of core/include/hydrotex/wetting/WetShading.hpp (the C++ reference, same names with an
 // hx prefix); tests/gpu/test_wet_shading_glsl.cpp runs it on llvmpipe and compares the two to
 // 1e-3. For users' engines: paste or include it into a fragment or compute shader (GLSL 1.30 or
 // later, no version line here) and feed it the liquid texture's saturation (liquid / capacity).

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Zlib
 // Absorption, sources and evaporation of the liquid texture, one texel per invocation: core's
-// Wetting::exchangeRange (core/src/Wetting.cpp) with the same float equations.
+// Wetting::exchangeRange (core/src/wetting/Wetting.cpp) with the same float equations.
 //  - Under a flat liquid surface (pressure rho g depth), or under any other surface with the
 //    pressure the host evaluated per texel (core's liquidPressureAtTexels): Darcy's law against
 //    the pores' back-pressure (paper eq. 9), S -> capacity exactly exponentially,

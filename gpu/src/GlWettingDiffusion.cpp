@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Zlib
 /// @file GlWettingDiffusion.cpp
-/// Wetting's explicit diffusion (core/src/Wetting.cpp, diffuseExplicit) as a gather over a CSR
+/// Wetting's explicit diffusion (core/src/wetting/Wetting.cpp, diffuseExplicit) as a gather over a CSR
 /// neighbour list of the same diffusion groups (mergeStiffTexels), one dispatch per sub-step on
 /// ping-pong buffers (wetting_diffuse.comp explains why the total is conserved without atomics),
 /// between a pass that pools each merged group onto its holder and one that spreads it back
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "GlObjects.hpp"
-#include "hydrotex/DiffusionGroups.hpp"
+#include "hydrotex/wetting/DiffusionGroups.hpp"
 #include "hydrotex/gpu/EmbeddedShaders.hpp"
 
 namespace hydrotex::gpu {

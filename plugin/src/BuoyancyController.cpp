@@ -14,11 +14,11 @@
 #include "BodyThreads.hpp"
 #include "BulletEigen.hpp"
 #include "FloatingBody.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/RigidBodyStep.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/step/RigidBodyStep.hpp"
 
 namespace hydrotex::bullet {
 namespace {

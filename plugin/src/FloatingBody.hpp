@@ -9,14 +9,14 @@
 #include <optional>
 #include <vector>
 
-#include "hydrotex/LiquidGraph.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/Mesh.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/SurfaceEvaluator.hpp"
-#include "hydrotex/TexelDrag.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/flooding/LiquidGraph.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/SurfaceEvaluator.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #include "DeformedCollision.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 

@@ -16,8 +16,8 @@
 #include "BulletEigen.hpp"
 #include "SceneShape.hpp"
 #include "SceneSoftBody.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/MeshIO.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 #include "hydrotex/Pose.hpp"
 
 namespace hydrotex::bullet {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "BulletEigen.hpp"
-#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/Pose.hpp"
 
 namespace hydrotex::bullet::detail {

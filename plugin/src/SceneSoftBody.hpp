@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 

@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "BulletEigen.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 namespace hydrotex::bullet {
 namespace {

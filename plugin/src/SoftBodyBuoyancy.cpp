@@ -15,9 +15,9 @@
 #include <optional>
 #include <string>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/RigidBodyStep.hpp"
-#include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/step/RigidBodyStep.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
 
 namespace hydrotex::bullet {
 

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <limits>
 
-#include "hydrotex/Advisor.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/hydrostatics/Advisor.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using namespace hydrotex;
 

@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hydrotex/Atlas.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Atlas.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using hydrotex::Mesh;
 

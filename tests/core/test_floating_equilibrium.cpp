@@ -6,11 +6,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/FloatingEquilibrium.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/FloatingEquilibrium.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 using namespace hydrotex;
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "TestPaths.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 
 using hydrotex::test::outputPath;
 

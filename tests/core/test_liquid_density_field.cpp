@@ -6,9 +6,9 @@
 #include <cmath>
 
 #include "TestSurfaces.hpp"
-#include "hydrotex/LiquidDensityField.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/wetting/LiquidDensityField.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 
 using namespace hydrotex;
 

@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "hydrotex/LiquidGraph.hpp"
-#include "hydrotex/LiquidGraphBuilder.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/flooding/LiquidGraph.hpp"
+#include "hydrotex/flooding/LiquidGraphBuilder.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 #include "TestSurfaces.hpp"
 
 using namespace hydrotex;

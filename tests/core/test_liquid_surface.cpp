@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
 
 using namespace hydrotex;
 

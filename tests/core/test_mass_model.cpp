@@ -7,9 +7,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 #include "TestSurfaces.hpp"
 
 using namespace hydrotex;

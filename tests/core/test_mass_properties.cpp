@@ -9,9 +9,9 @@
 #include <numbers>
 #include <string>
 
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 #include "TestSurfaces.hpp"
 
 using namespace hydrotex;

@@ -13,8 +13,8 @@
 #include <tuple>
 
 #include "TestPaths.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/MeshValidation.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
 
 using hydrotex::Mesh;
 using hydrotex::test::outputPath;

@@ -7,12 +7,12 @@
 #include <Eigen/Eigenvalues>
 #include <string>
 
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshParts.hpp"
-#include "hydrotex/MeshRepair.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshParts.hpp"
+#include "hydrotex/mesh/MeshRepair.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using hydrotex::Mesh;
 using hydrotex::RepairReport;

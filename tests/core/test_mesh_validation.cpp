@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using hydrotex::Mesh;
 

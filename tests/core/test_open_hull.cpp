@@ -8,15 +8,15 @@
 #include <string>
 
 #include "OpenTopBox.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/LiquidGraphBuilder.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshRepair.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/TexelDrag.hpp"
-#include "hydrotex/TriangleMassIntegrator.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/flooding/LiquidGraphBuilder.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshRepair.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/mass/TriangleMassIntegrator.hpp"
 
 using namespace hydrotex;
 

@@ -11,10 +11,10 @@
 #include <random>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

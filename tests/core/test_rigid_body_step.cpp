@@ -9,8 +9,8 @@
 #include <cmath>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/RigidBodyStep.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/step/RigidBodyStep.hpp"
 
 using namespace hydrotex;
 

@@ -8,9 +8,9 @@
 #include <limits>
 #include <string>
 
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

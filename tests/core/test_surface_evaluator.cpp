@@ -12,13 +12,13 @@
 #include <vector>
 
 #include "TestSurfaces.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/SurfaceEvaluator.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/SurfaceEvaluator.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

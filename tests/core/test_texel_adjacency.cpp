@@ -10,9 +10,9 @@
 #include <queue>
 
 #include "TestSurfaces.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TexelAdjacency.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
 
 using namespace hydrotex;
 

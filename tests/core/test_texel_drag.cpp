@@ -9,8 +9,8 @@
 #include <limits>
 #include <vector>
 
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "TestSurfaces.hpp"
 
 using namespace hydrotex;

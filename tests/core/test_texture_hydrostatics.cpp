@@ -8,11 +8,11 @@
 #include <random>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

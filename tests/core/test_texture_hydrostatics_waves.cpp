@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TextureHydrostatics.hpp"
+#include "hydrostatics/SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "TestSurfaces.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TriangleMassIntegrator.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/mass/TriangleMassIntegrator.hpp"
 
 using namespace hydrotex;
 namespace prim = hydrotex::primitives;

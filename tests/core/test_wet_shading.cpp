@@ -2,7 +2,7 @@
 // Wet appearance against Lekner and Dorf's worked numbers (docs/references.md).
 #include <catch2/catch.hpp>
 
-#include "hydrotex/WetShading.hpp"
+#include "hydrotex/wetting/WetShading.hpp"
 
 using namespace hydrotex;
 

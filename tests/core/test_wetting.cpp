@@ -12,10 +12,10 @@
 #include <random>
 
 #include "TestSurfaces.hpp"
-#include "hydrotex/DiffusionGroups.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/wetting/DiffusionGroups.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 
 using namespace hydrotex;
 

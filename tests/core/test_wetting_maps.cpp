@@ -15,9 +15,9 @@
 
 #include "TestPaths.hpp"
 #include "TestSurfaces.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 
 using namespace hydrotex;
 

@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "OpenTopBox.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ComputeBackend.hpp"
-#include "hydrotex/MeshRepair.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
+#include "hydrotex/mesh/MeshRepair.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/gpu/GlBackend.hpp"
 
 using namespace hydrotex;

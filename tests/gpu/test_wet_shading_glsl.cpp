@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "hydrotex/WetShading.hpp"
+#include "hydrotex/wetting/WetShading.hpp"
 #include "hydrotex/gpu/EglContext.hpp"
 #include "hydrotex/gpu/EmbeddedShaders.hpp"
 #include "hydrotex/gpu/WetShadingGl.hpp"

@@ -10,10 +10,10 @@
 #include <cmath>
 #include <vector>
 
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/TexelAdjacency.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/GlWettingDiffusion.hpp"
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #ifdef CONSUMER_HAS_BULLET
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #endif

@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 namespace hydrotex::bullet::testing {

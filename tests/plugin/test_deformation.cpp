@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "PluginTestWorld.hpp"
-#include "hydrotex/IdealGas.hpp"
+#include "hydrotex/mass/IdealGas.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;

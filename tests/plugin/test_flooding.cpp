@@ -8,8 +8,8 @@
 #include <functional>
 
 #include "PluginTestWorld.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;

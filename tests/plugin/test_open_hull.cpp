@@ -9,7 +9,7 @@
 
 #include "OpenTopBox.hpp"
 #include "PluginTestWorld.hpp"
-#include "hydrotex/MeshRepair.hpp"
+#include "hydrotex/mesh/MeshRepair.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;

@@ -8,8 +8,8 @@
 
 #include <memory>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 // Your existing world and a body (a 1 x 0.5 x 1 m crate whose shape is in its mesh's frame).
@@ -56,7 +56,7 @@ double floatCrate() {
 #include <array>
 #include <memory>
 
-#include "hydrotex/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 // An existing world whose bodies have only their Bullet shapes (a 1 x 0.5 x 1 m crate and a log,

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "TestPaths.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 
 using namespace hydrotex;

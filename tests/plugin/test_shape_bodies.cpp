@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "PluginTestWorld.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
 

@@ -18,11 +18,11 @@
 #include <memory>
 #include <vector>
 
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
-#include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/Scene.hpp"

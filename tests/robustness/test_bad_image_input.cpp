@@ -12,7 +12,7 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 
 using namespace hydrotex;
 using hydrotex::test::outputPath;

@@ -16,12 +16,12 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/Atlas.hpp"
-#include "hydrotex/BodyGeometry.hpp"
-#include "hydrotex/MassProperties.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/MeshValidation.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Atlas.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/MeshValidation.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 using namespace hydrotex;
 using hydrotex::test::outputPath;

@@ -12,7 +12,7 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 
 using namespace hydrotex;

@@ -20,7 +20,7 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 
 using namespace hydrotex;

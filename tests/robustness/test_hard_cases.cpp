@@ -15,9 +15,9 @@
 #include <numbers>
 
 #include "../plugin/PluginTestWorld.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/PolyhedralHydrostatics.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 
 using namespace hydrotex;

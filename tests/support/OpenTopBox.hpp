@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "hydrotex/Mesh.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 namespace hydrotex::testing {
 

@@ -3,8 +3,8 @@
 // Surface textures that several suites bake the same way.
 #include <vector>
 
-#include "hydrotex/Mesh.hpp"
-#include "hydrotex/SurfaceBake.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
 
 namespace hydrotex::test {
 /// Square plate of side `side` (m) in the plane y = `height` (m), facing +y, its UVs filling

@@ -9,7 +9,7 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/ImageMap.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/Version.hpp"
 
 namespace {

@@ -11,8 +11,8 @@
 
 #include "TestPaths.hpp"
 #include "ToolRun.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/Primitives.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
 
 namespace {
 

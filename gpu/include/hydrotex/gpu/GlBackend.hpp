@@ -25,7 +25,7 @@
 #include <memory>
 #include <vector>
 
-#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/gpu/EglContext.hpp"
 
 namespace hydrotex::gpu {

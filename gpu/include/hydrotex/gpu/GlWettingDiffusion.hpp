@@ -12,9 +12,9 @@
 #include <memory>
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/LiquidTexture.hpp"
-#include "hydrotex/TexelAdjacency.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/wetting/LiquidTexture.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #include "hydrotex/gpu/EglContext.hpp"
 
 namespace hydrotex::gpu {

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string_view>
 
-#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
 
 namespace hydrotex::gpu {
 

@@ -14,13 +14,13 @@
 #include <optional>
 #include <vector>
 
-#include "hydrotex/ComputeBackend.hpp"
+#include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/Hydrostatics.hpp"
-#include "hydrotex/LiquidGraph.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/MassProperties.hpp"
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/flooding/LiquidGraph.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 #include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
 

@@ -16,13 +16,13 @@
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/LiquidGraphBuilder.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/Mesh.hpp"
-#include "hydrotex/MeshIO.hpp"
-#include "hydrotex/TexelDrag.hpp"
-#include "hydrotex/Wetting.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/flooding/LiquidGraphBuilder.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
 
 namespace hydrotex::bullet {

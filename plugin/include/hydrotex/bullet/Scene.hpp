@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/ImageMap.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/MassModel.hpp"
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/mesh/ImageMap.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassModel.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 

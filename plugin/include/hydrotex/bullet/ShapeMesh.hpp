@@ -13,7 +13,7 @@
 /// default, rounds it outwards in contacts; the mesh does not add it).
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/Mesh.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
 
 class btCollisionShape;
 

@@ -38,11 +38,11 @@
 #include <BulletSoftBody/btSoftBody.h>
 
 #include "hydrotex/Expected.hpp"
-#include "hydrotex/LiquidSurface.hpp"
-#include "hydrotex/Mesh.hpp"
-#include "hydrotex/SurfaceBake.hpp"
-#include "hydrotex/SurfaceEvaluator.hpp"
-#include "hydrotex/TexelDrag.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/SurfaceEvaluator.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 
 namespace hydrotex::bullet {

@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file ComputeBackend.hpp
+/// One interface for the per-step texel passes (docs/design.md "Backends"): a CPU implementation here in
+/// core and a GL compute implementation in hydrotex::gpu, with the same inputs and the same
+/// outputs, so that every backend runs the same test bodies. Bodies are registered once (their
+/// baked surface); each step asks for many bodies at once (batched) and gets every answer back
+/// together.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/bake/SurfaceBake.hpp"
+
+namespace hydrotex {
+
+/// Index of a body registered with a backend (0, 1, 2, ... in the order of addBody).
+using BackendBodyId = std::uint32_t;
+
+/// One body's hydrostatics question inside a batch.
+struct BackendHydrostaticsQuery {
+  BackendBodyId body = 0;        ///< as returned by ComputeBackend::addBody
+  HydrostaticsQuery query;       ///< pose, gravity, centre of mass, time, mass
+};
+
+/// A compute backend: holds the baked texels of many bodies and answers batched per-step passes.
+/// Not thread-safe: one thread drives a backend (the GL one owns a GL context).
+class ComputeBackend {
+ public:
+  virtual ~ComputeBackend() = default;
+
+  /// Short name: "cpu" or "gpu".
+  virtual std::string name() const = 0;
+  /// What runs the passes: "CPU" for the CPU backend, the GL_RENDERER string for the GL one
+  /// (e.g. "llvmpipe (LLVM 15.0.6, 256 bits)", "NVIDIA H100 80GB HBM3/PCIe/SSE2").
+  virtual std::string renderer() const = 0;
+
+  /// Registers a body from its exact bake and surface textures (body frame). The cone apex of the
+  /// mass pass is `massReferencePoint` (m, body frame; the body's centroid keeps float rounding
+  /// lowest). Errors: textures that do not match the bake, non-finite texels, an empty bake.
+  virtual Expected<BackendBodyId> addBody(const SurfaceBake& bake, const SurfaceTextures& textures,
+                                          const Eigen::Vector3d& massReferencePoint) = 0;
+
+  /// Replaces a body's surface textures (a deforming mesh re-evaluated with evaluateSurface from
+  /// the same bake). Errors: unknown body, texel count differs from the registered one.
+  virtual Status updateSurface(BackendBodyId body, const SurfaceTextures& textures) = 0;
+
+  /// Number of registered bodies.
+  virtual std::size_t bodyCount() const = 0;
+
+  /// Registers a body that shares the texels of registered body `of` (the same bake, surface and
+  /// mass reference point; a crate of a kind), read-only: its own id, no copy. updateSurface on
+  /// either is then refused. Errors: unknown body; a backend that does not share (the default,
+  /// the GL one) says so, and the caller registers the body with addBody instead.
+  virtual Expected<BackendBodyId> addInstance(BackendBodyId of) {
+    (void)of;
+    return Error{name() + " backend: does not share bodies' texels (addInstance); register the body with addBody"};
+  }
+
+  /// Frees what a body holds, when its owner no longer asks for it (a controller's removeBody).
+  /// Its id stays taken, and asking for it afterwards is an error of the pass that asks. The
+  /// default keeps everything (the GL backend packs all bodies in shared buffers and keeps their
+  /// slots until it is destroyed).
+  virtual void releaseBody(BackendBodyId body) { (void)body; }
+
+  /// Hydrostatics of every queried body in `surface`, one result per query (same order).
+  /// Errors (nothing is written then): `results` shorter than `queries`, an unknown body, a body
+  /// asked twice in one batch, an invalid query or surface (validateHydrostaticsQuery).
+  virtual Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
+                              std::span<HydrostaticsResult> results) = 0;
+
+  /// Texture mass properties of `bodies[i]` made of `models[i]` (TextureMassIntegrator's
+  /// formulas; the models' referencePoint is ignored: the registered one is used). Errors: spans
+  /// of different sizes or `results` too short, an unknown body, a density map of the wrong size
+  /// or with negative or non-finite densities, negative or non-finite densities.
+  virtual Status massProperties(std::span<const BackendBodyId> bodies, std::span<const TextureMassModel> models,
+                                std::span<MassProperties> results) = 0;
+};
+
+/// Runs work(i) once for every i in [0, count), on as many threads as it likes, and returns when
+/// all calls have returned (a controller hands the CPU backend its own threads this way).
+using ParallelFor = std::function<void(std::size_t count, const std::function<void(std::size_t)>& work)>;
+
+/// The CPU backend: TextureHydrostatics (tile hierarchy) and TextureMassIntegrator per body. The
+/// bodies of one batch are computed through `parallelFor` (empty: one after the other); each
+/// body's answer depends only on its own data, so the results are the same for every thread count.
+std::unique_ptr<ComputeBackend> makeCpuBackend(ParallelFor parallelFor = {});
+
+/// The wetted-surface sums of one body under a flat surface at height h, in the world frame
+/// translated to o = (t_x, h, t_z) (t the body's translation), accumulated over texels or
+/// triangles exactly as core's texture path does (HydrostaticSums.hpp, derivation there). Lets a
+/// backend that accumulates them elsewhere (a GPU) finish with the same code as the CPU.
+struct FlatWettedSums {
+  double sumDAy = 0.0;     ///< Sum D A_y (m^3); the submerged volume is its negative
+  double sumDXAy = 0.0;    ///< Sum D x' A_y (m^4)
+  double sumDZAy = 0.0;    ///< Sum D z' A_y (m^4)
+  double sumYB = 0.0;      ///< Sum (Q / 2) A_y (m^4), Q the mean squared depth term
+  double sumAy = 0.0;      ///< Sum frac A_y (m^2)
+  double sumXAy = 0.0;     ///< Sum frac x' A_y (m^3)
+  double sumZAy = 0.0;     ///< Sum frac z' A_y (m^3)
+  double sumXXAy = 0.0;    ///< Sum frac x'^2 A_y (m^4)
+  double sumXZAy = 0.0;    ///< Sum frac x' z' A_y (m^4)
+  double sumZZAy = 0.0;    ///< Sum frac z'^2 A_y (m^4)
+  double wettedArea = 0.0; ///< Sum frac |A| (m^2)
+  /// Factor on the volume sums (volume, force, torque; not the water plane), from
+  /// TexelVolumeCalibration::scale; 1 for sums that are exact as they are.
+  double volumeScale = 1.0;
+};
+
+/// The texture path's calibration of the volume sums (TextureHydrostatics.cpp, volumeScale): the
+/// enclosed volume (1/3) Sum p . A is exact from the texels, the y-field sum Sum y' A'_y the
+/// waterline needs is off by O(texel^2); scaling the volume sums by their ratio for the whole body
+/// at the pose's orientation makes a wholly submerged body exact. Built once per body.
+struct TexelVolumeCalibration {
+  Eigen::Matrix3d sumPA = Eigen::Matrix3d::Zero();  ///< Sum p_i A_k over the texels (m^3, body frame)
+  double enclosedVolume = 0.0;                      ///< (1/3) Sum p . A (m^3)
+
+  /// The sums of `textures` (accumulated in double).
+  static TexelVolumeCalibration fromTextures(const SurfaceTextures& textures);
+  /// enclosedVolume / Sum (r1 . p)(r1 . A), r1 the rotation's y row (1 when that sum is not
+  /// positive).
+  double scale(const Eigen::Matrix3d& rotation) const;
+};
+
+/// The HydrostaticsResult of a body under a flat surface at `surfaceHeight` (m) of `density`
+/// (kg/m^3) from its wetted sums: Archimedes force, centre of buoyancy, torques, water plane and
+/// stiffness, exactly as TextureHydrostatics::query assembles them. `query` must be valid.
+HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& sums, double surfaceHeight, double density,
+                                          const HydrostaticsQuery& query);
+
+/// The pressure sums of one body under a surface that is not a flat plane (waves, a height grid,
+/// a medium), in the world frame translated to the frame origin o: core's texture path integrates
+/// the pressure texel by texel there (TextureHydrostatics.cpp) instead of using Archimedes' force.
+struct PressureSums {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< -Sum p A (N), before the volume scale
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< -Sum x' x p A (N m) about o, before the volume scale
+};
+
+/// The HydrostaticsResult of a body from its wetted sums under waves, a height grid
+/// (`hasWaterplane` true; `sums.sumYB` then holds Sum (Q/2 - h' D) A_y, h' the local surface
+/// height above o_y) or a medium without a free surface (`hasWaterplane` false, o = the body's
+/// translation), exactly as TextureHydrostatics::query assembles them. `origin` is o (m, world),
+/// `density` the surface's nominal density (kg/m^3); `query` must be valid.
+HydrostaticsResult finishPressureHydrostatics(const FlatWettedSums& sums, const PressureSums& pressure,
+                                              const Eigen::Vector3d& origin, double density,
+                                              const HydrostaticsQuery& query, bool hasWaterplane);
+
+}  // namespace hydrotex

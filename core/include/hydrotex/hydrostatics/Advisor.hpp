@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file Advisor.hpp
+/// What accuracy costs in time, measured on one mesh: the texture path (at a resolution, with the
+/// tile hierarchy or by brute force) against the exact polyhedral path over a sample of depths and
+/// orientations in a flat liquid, with the time per query. adviseHydrostatics() picks the cheapest
+/// (method, resolution) under an error target (`hydrotex advise`); the pieces it is made of
+/// (sampling, error measures, timing) serve the accuracy report (demos/report) as well.
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/mesh/Mesh.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
+
+namespace hydrotex {
+
+/// A way of answering a hydrostatics query.
+enum class HydrostaticsMethod {
+  Exact,              ///< polyhedralHydrostaticsUnchecked on the mesh (the reference)
+  TextureHierarchy,   ///< TextureHydrostatics::query with TexelTraversal::Hierarchy
+  TextureBruteForce,  ///< TextureHydrostatics::query with TexelTraversal::BruteForce
+};
+
+/// "exact", "texture-hierarchy" or "texture-brute-force".
+std::string methodName(HydrostaticsMethod method);
+
+/// Which poses of a body the measurements sample. The body sits in a flat surface at y = 0.
+struct QuerySampling {
+  /// Water levels per orientation, at (i + 1) / (depthCount + 1) of the rotated body's vertical
+  /// extent (never wholly dry nor wholly submerged, where both paths are exact). At least 1.
+  int depthCount = 5;
+  /// Orientations: the first is the mesh as modelled, the others fixed tilts (see the .cpp). 1..8.
+  int orientationCount = 4;
+};
+
+/// The sample of queries: for each orientation, each depth (depth varies fastest). The centre of
+/// mass is the mesh's volume centroid (m, body frame). Empty for an empty mesh or bad sampling.
+std::vector<HydrostaticsQuery> sampleHydrostaticsQueries(const Mesh& mesh, const QuerySampling& sampling);
+
+/// Length of the diagonal of the mesh's axis-aligned bounding box (m): the "size" that centre
+/// errors are relative to. 0 for an empty mesh.
+double meshSize(const Mesh& mesh);
+
+/// What errors are relative to.
+struct ErrorScales {
+  double totalVolume = 1.0;   ///< enclosed volume of the body (m^3)
+  double size = 1.0;          ///< meshSize() (m)
+  double density = 1000.0;    ///< liquid density (kg/m^3)
+  double gravity = 9.81;      ///< m/s^2
+};
+
+/// Relative errors of one hydrostatics answer against a reference answer (dimensionless).
+struct HydrostaticsErrors {
+  double volume = 0.0;            ///< |V - V_ref| / total volume
+  double centerOfBuoyancy = 0.0;  ///< |B - B_ref| / size
+  double force = 0.0;             ///< |F - F_ref| / (rho g total volume)
+  /// The larger of the volume and centre-of-buoyancy errors: what the advisor keeps under target.
+  double worst() const { return volume > centerOfBuoyancy ? volume : centerOfBuoyancy; }
+  /// Component-wise maximum with `other`.
+  void keepMax(const HydrostaticsErrors& other);
+};
+
+/// Errors of `answer` against `reference` (see HydrostaticsErrors) with the given scales.
+HydrostaticsErrors hydrostaticsErrors(const HydrostaticsResult& answer, const HydrostaticsResult& reference,
+                                      const ErrorScales& scales);
+
+/// Relative errors of mass properties against a reference (dimensionless).
+struct MassErrors {
+  double mass = 0.0;           ///< |m - m_ref| / m_ref
+  double centerOfMass = 0.0;   ///< |c - c_ref| / size
+  double inertia = 0.0;        ///< ||I - I_ref||_F / ||I_ref||_F (about the centre of mass)
+};
+
+/// Errors of `answer` against `reference`, centre of mass relative to `size` (m).
+MassErrors massErrors(const MassProperties& answer, const MassProperties& reference, double size);
+
+/// How times are taken.
+struct TimingSettings {
+  int runs = 5;                  ///< timed batches; the median is reported (>= 1)
+  double batchSeconds = 0.02;    ///< wall time each batch aims at (s)
+};
+
+/// Median over `settings.runs` batches of the mean wall time of one call of `work` (s), on the
+/// calling thread, after one warm-up call. A batch holds as many calls as fit in batchSeconds
+/// (at least one), so a slow `work` costs about runs + 2 calls.
+double medianSecondsPerCall(const std::function<void()>& work, const TimingSettings& settings = {});
+
+/// One measured (method, resolution) on one mesh.
+struct MethodMeasurement {
+  HydrostaticsMethod method = HydrostaticsMethod::Exact;
+  int resolution = 0;                 ///< texels per side; 0 for the exact path
+  HydrostaticsErrors maxErrors;       ///< worst over the sampled queries
+  double microsecondsPerQuery = 0.0;  ///< median (see medianSecondsPerCall), mean over the sample
+  std::size_t bytes = 0;              ///< data the query reads: packed texels and tiles, or the mesh
+};
+
+/// Answers one query (any method); the measuring code times and compares through it.
+using HydrostaticsAnswer = std::function<Expected<HydrostaticsResult>(const HydrostaticsQuery&)>;
+
+/// Runs `answer` over `queries`, compares each with `references` (same order) and times a pass
+/// over the whole sample. Error when the sizes differ or the sample is empty, or the first failing
+/// answer's message.
+Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, const std::vector<HydrostaticsQuery>& queries,
+                                          const std::vector<HydrostaticsResult>& references,
+                                          const ErrorScales& scales, const TimingSettings& timing);
+
+/// Bytes a texture query reads: packed texels, tiles and groups (lower bound on what is held).
+std::size_t textureHydrostaticsBytes(const TextureHydrostatics& texture);
+/// Bytes of the mesh the exact path reads: positions and triangles.
+std::size_t meshBytes(const Mesh& mesh);
+
+/// What the advisor sweeps.
+struct AdvisorSettings {
+  std::vector<int> resolutions = {32, 64, 128, 256, 512, 1024, 2048};  ///< texels per side, tried in increasing order
+  QuerySampling sampling;                    ///< depths and orientations
+  TimingSettings timing;                     ///< per candidate
+  bool includeBruteForce = false;            ///< also try TexelTraversal::BruteForce (same errors, never faster on a flat surface)
+  double density = 1000.0;                   ///< liquid density (kg/m^3)
+};
+
+/// The advisor's answer: the cheapest candidate under the target and all that were measured.
+struct Advice {
+  MethodMeasurement best;                    ///< lowest time among those whose worst() <= target
+  std::vector<MethodMeasurement> candidates; ///< exact first, then the texture ones in sweep order
+  double targetError = 0.0;                  ///< as asked
+};
+
+/// Measures the exact path and the texture path at increasing resolutions on `mesh` over the sampled
+/// queries, and returns the cheapest (method, resolution) whose relative volume and centre-of-
+/// buoyancy errors stay under `targetError` at every sampled query. The exact path always meets it,
+/// so there is always an answer. The sweep stops at the first texture resolution that meets the
+/// target, or once the texture path is slower than the exact one (time grows with resolution).
+/// Errors: a target that is not positive and finite, an open or empty mesh, a resolution out of
+/// range, an invalid sampling.
+Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const AdvisorSettings& settings = {});
+
+}  // namespace hydrotex

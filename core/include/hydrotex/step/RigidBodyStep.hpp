@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file RigidBodyStep.hpp
+/// One rigid body's step in the liquid, as pure functions (docs/design.md "The phased step"): the
+/// drag sum over its patches and the implicit velocity update with the hydrostatic stiffness and
+/// the drag taken implicitly. A physics engine's adapter (the Bullet plugin) reads a body's
+/// kinematics, asks the backend for its hydrostatics, calls these, and writes the velocities back;
+/// the laws live here once, for every adapter and every backend.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/Pose.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+
+namespace hydrotex {
+
+/// A rigid body's motion at the start of a step (world frame, SI units).
+struct RigidBodyMotion {
+  Pose meshPose;                                        ///< the mesh frame in the world
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();     ///< centre of mass (m)
+  Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();   ///< of the centre of mass (m/s)
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();  ///< rad/s
+  double mass = 0.0;                                    ///< kg (> 0)
+  Eigen::Matrix3d inertiaWorld = Eigen::Matrix3d::Zero();     ///< about the centre of mass, world axes (kg m^2)
+};
+
+/// The liquid a body's drag sees.
+struct DragLiquid {
+  const LiquidSurface* surface = nullptr;               ///< free surface, density, velocity field (required)
+  Eigen::Vector3d current = Eigen::Vector3d::Zero();    ///< uniform current added to the surface's velocity (m/s)
+  double viscosity = 1.0e-3;                            ///< dynamic viscosity (Pa s)
+  double time = 0.0;                                    ///< s, passed to the surface
+};
+
+/// A body's drag model: its patches (mergeTexelsIntoDragPatches, body = mesh frame) and coefficients.
+struct DragBody {
+  std::span<const DragPatch> patches;                   ///< mesh frame
+  double totalPatchArea = 0.0;                          ///< m^2, sum of the patches' areas
+  double referenceLength = 1.0;                         ///< m, the Reynolds number's length (> 0)
+  DragCoefficients coefficients;                        ///< per-element law
+  double rotationalDamping = 0.0;                       ///< 1/s-free factor on -I w, scaled by the wetted fraction
+};
+
+/// The drag of one step.
+struct DragLoads {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();      ///< N, world
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();     ///< N m about the centre of mass
+  double wettedArea = 0.0;                              ///< m^2, sum of wet fraction x patch area
+  /// lambda (dimensionless): the implicit drag damping D = lambda M / dt that removes, along the
+  /// relative motion, the energy this step's drag would (0 when the drag adds energy).
+  double damping = 0.0;
+  Eigen::Vector3d liquidVelocityAtCenter = Eigen::Vector3d::Zero();  ///< m/s, current + surface velocity
+  std::uint64_t patchesVisited = 0;                     ///< patches at least partly wet
+};
+
+/// The fraction of a drag patch of bounding radius `radius` (m) that is wet when its centre lies
+/// `depth` (m) below the surface: a linear ramp over the sphere's height, 0 above, 1 below, so
+/// that the force stays continuous as the waterline moves. The one rule for a patch cut by the
+/// waterline.
+double patchWetFraction(double depth, double radius);
+
+/// The skin friction coefficient of a whole body (scaled): one per body and step, from the body's
+/// Reynolds number rho |u| L / mu (the ITTC line is a whole-body correlation); 0 without
+/// viscosity or with a zero scale. Used by rigid and soft bodies alike.
+double bodySkinFriction(double density, double relativeSpeed, double referenceLength, double viscosity,
+                        const DragCoefficients& coefficients);
+
+/// The drag on a rigid body over its wet patches (texelDragForceWithFriction per patch, at the
+/// patch's velocity v + w x r relative to the liquid there), its rotational damping, and the
+/// implicit damping for a step of `dt` seconds. Pure: reads the surface through const calls.
+DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid, double dt);
+
+/// What the implicit velocity update needs besides the motion (world frame).
+struct ImplicitUpdateInput {
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();         ///< m/s^2
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();           ///< N, buoyancy + drag (not the weight)
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();          ///< N m about the centre of mass
+  /// Hydrostatic stiffness on (heave, roll, pitch) (Hydrostatics.hpp's convention; zero: none).
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  double addedMass = 0.0;                                    ///< kg, on the translation only
+  double dragDamping = 0.0;                                  ///< DragLoads::damping
+};
+
+/// The velocities after a step.
+struct RigidBodyVelocities {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();    ///< m/s
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();   ///< rad/s
+};
+
+/// The velocity update of a step of `dt` seconds with the hydrostatic stiffness and the drag
+/// taken implicitly (linearized backward Euler):
+///   (M + theta dt^2 K + D dt) u' = M u + dt (m g + F) + D dt u ,
+/// M = diag(m + m_a, I), K on (v_y, w_x, w_z) in the modes of the mass metric (stable modes
+/// implicit, capsizing ones explicit unless faster than the step resolves), theta = min(1,
+/// omega_max^2 dt^2): nearly symplectic for ordinary bodies, fully implicit for light ones, and
+/// never gaining energy from the stiffness (derivation in RigidBodyStep.cpp). Error: a system that
+/// gives non-finite velocities (a singular mass matrix, non-finite input).
+Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& motion, const ImplicitUpdateInput& input,
+                                                     double dt);
+
+}  // namespace hydrotex

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file HydrostaticSums.hpp
+/// Private to core: the sums over the wetted surface that both hydrostatics paths accumulate, and
+/// their conversion into a HydrostaticsResult. Derivation (divergence theorem, fields that vanish
+/// on the water plane so that the cap under the water plane never has to be built):
+///   V               = Int_V 1    = -Sum D A_y                  field (0, y - h, 0)
+///   V (x_B - o)     = Int_V x'   = -Sum D x' A_y               field (0, x'(y - h), 0)
+///   V (y_B - o_y)   = Int_V y'   =  Sum (Q/2 - h' D) A_y       field (0, (y'^2 - h'^2)/2, 0)
+///   cap integrals of f(x, z)     = -Sum f A_y                  (closed surface: Int f n_y = Int df/dy = 0)
+///   pressure force  = -Sum p A,  p = rho g D; torque = -Sum x' x p A
+/// with x' the position relative to the frame origin o, h' the local surface height relative to
+/// o_y, D = mean of (h - y)+ over the element, Q = mean of (h - y)+^2, and the area weights of the
+/// part of each element under the surface.
+
+#include <Eigen/Core>
+#include <cmath>
+
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
+
+namespace hydrotex {
+struct FlatWettedSums;  // ComputeBackend.hpp
+}
+
+namespace hydrotex::detail {
+
+/// Sums over the wetted surface in a world frame translated to `origin`.
+struct WettedSums {
+  double sumDA[3] = {0, 0, 0};     ///< Sum D A (m^3)
+  double sumDxA[3] = {0, 0, 0};    ///< Sum D x' x A (m^4)
+  double sumDXAy = 0, sumDZAy = 0; ///< Sum D x' A_y, Sum D z' A_y (m^4)
+  double sumYB = 0;                ///< Sum (Q/2 - h' D) A_y (m^4)
+  double sumAy = 0;                ///< Sum frac A_y (m^2)
+  double sumXAy = 0, sumZAy = 0;   ///< Sum frac x' A_y, z' A_y (m^3)
+  double sumXXAy = 0, sumXZAy = 0, sumZZAy = 0;  ///< (m^4)
+  double wettedArea = 0;           ///< Sum frac |A| (m^2)
+  double pressureForce[3] = {0, 0, 0};   ///< -Sum p A (N), only for non-flat surfaces
+  double pressureTorque[3] = {0, 0, 0};  ///< -Sum x' x p A (N m), only for non-flat surfaces
+  /// Factor on the volume sums (volume, force, torque; not the water plane): the texture path
+  /// sets it to the body's exact enclosed volume over the same sums for the whole body at this
+  /// orientation (see TextureHydrostatics.cpp); 1 for the exact path.
+  double volumeScale = 1.0;
+
+  /// Adds one element (a texel patch or a triangle) at x' with area vector a (m^2), area |A|,
+  /// submerged area fraction `frac`, D, Q (see the file comment) and local surface height h'.
+  inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
+                         double depth, double depthSq, double localHeight) {
+    sumDA[0] += depth * ax;
+    sumDA[1] += depth * ay;
+    sumDA[2] += depth * az;
+    sumDxA[0] += depth * (y * az - z * ay);
+    sumDxA[1] += depth * (z * ax - x * az);
+    sumDxA[2] += depth * (x * ay - y * ax);
+    sumDXAy += depth * x * ay;
+    sumDZAy += depth * z * ay;
+    sumYB += (0.5 * depthSq - localHeight * depth) * ay;
+    const double fay = frac * ay;
+    sumAy += fay;
+    sumXAy += fay * x;
+    sumZAy += fay * z;
+    sumXXAy += fay * x * x;
+    sumXZAy += fay * x * z;
+    sumZZAy += fay * z * z;
+    wettedArea += frac * area;
+  }
+
+  /// Adds another set of sums (the same frame and volume scale).
+  inline void add(const WettedSums& o) {
+    for (int k = 0; k < 3; ++k) {
+      sumDA[k] += o.sumDA[k];
+      sumDxA[k] += o.sumDxA[k];
+      pressureForce[k] += o.pressureForce[k];
+      pressureTorque[k] += o.pressureTorque[k];
+    }
+    sumDXAy += o.sumDXAy;
+    sumDZAy += o.sumDZAy;
+    sumYB += o.sumYB;
+    sumAy += o.sumAy;
+    sumXAy += o.sumXAy;
+    sumZAy += o.sumZAy;
+    sumXXAy += o.sumXXAy;
+    sumXZAy += o.sumXZAy;
+    sumZZAy += o.sumZZAy;
+    wettedArea += o.wettedArea;
+  }
+
+  /// Adds a set of wholly submerged elements under a flat surface at o_y, given their body-frame
+  /// moments, the rotation and the body origin's position relative to o (x' = R p + offset).
+  void addSubmergedMoments(const TextureHydrostatics::Moments& moments, const Eigen::Matrix3d& rotation,
+                           const Eigen::Vector3d& offset);
+};
+
+/// Submerged fractions of a planar patch p + s eU + t eV (s, t uniform on [-1/2, 1/2]) whose
+/// height above its centre is X = s eU.y + t eV.y, under a surface `depth` d above the centre.
+struct WaterlineFractions {
+  double area;      ///< E[1(d > X)]: submerged area fraction
+  double depth;     ///< E[(d - X)+] (m): mean depth over the patch
+  double depthSq;   ///< E[(d - X)+^2] - frac (a^2 + b^2)/12 (m^2): as the midpoint rule counts d^2
+};
+
+/// E[g(d - a U1 - b U2)] for U uniform on [-1/2, 1/2] equals the second difference of G (G'' = g)
+/// divided by a b (integrate the box twice); a or b near zero falls back to the 1-D and 0-D limits
+/// to avoid cancellation.
+inline WaterlineFractions waterlineFractions(double d, double a, double b) {
+  a = std::abs(a);
+  b = std::abs(b);
+  if (a < b) std::swap(a, b);
+  const double halfSpan = 0.5 * (a + b);
+  const double variance = (a * a + b * b) / 12.0;
+  if (d >= halfSpan) return {1.0, d, d * d};
+  if (d <= -halfSpan) return {0.0, 0.0, 0.0};
+  auto pos = [](double z) { return z > 0.0 ? z : 0.0; };
+  double frac, mean, meanSq;
+  if (b > 1e-6 * a) {
+    // G for g = 1(z>0), z+, z+^2: z+^2/2, z+^3/6, z+^4/12.
+    const double z[4] = {pos(d + halfSpan), pos(d + 0.5 * (a - b)), pos(d - 0.5 * (a - b)), pos(d - halfSpan)};
+    double s2 = 0, s3 = 0, s4 = 0;
+    const double sign[4] = {1.0, -1.0, -1.0, 1.0};
+    for (int i = 0; i < 4; ++i) {
+      const double z2 = z[i] * z[i];
+      s2 += sign[i] * z2;
+      s3 += sign[i] * z2 * z[i];
+      s4 += sign[i] * z2 * z2;
+    }
+    const double inv = 1.0 / (a * b);
+    frac = s2 * 0.5 * inv;
+    mean = s3 / 6.0 * inv;
+    meanSq = s4 / 12.0 * inv;
+  } else if (a > 0.0) {
+    // 1-D: G1 = z+, z+^2/2, z+^3/3.
+    const double hi = pos(d + 0.5 * a), lo = pos(d - 0.5 * a);
+    const double inv = 1.0 / a;
+    frac = (hi - lo) * inv;
+    mean = 0.5 * (hi * hi - lo * lo) * inv;
+    meanSq = (hi * hi * hi - lo * lo * lo) / 3.0 * inv;
+  } else {
+    frac = d > 0.0 ? 1.0 : 0.0;
+    mean = pos(d);
+    meanSq = mean * mean;
+  }
+  return {frac, mean, meanSq - frac * variance};
+}
+
+/// How the force and torque are formed.
+enum class ForceModel {
+  Archimedes,   ///< flat surface: F = rho g V up, acting at the centre of buoyancy
+  PressureSums, ///< waves, grids and media: the pressure sums
+};
+
+/// Turns the sums into a result. `origin` is the frame origin (world); its y is the water-plane
+/// height used for stiffness. `hasWaterplane` false for media without a free surface.
+HydrostaticsResult finishHydrostatics(const WettedSums& sums, const Eigen::Vector3d& origin, double density,
+                                      const HydrostaticsQuery& query, ForceModel forceModel, bool hasWaterplane);
+
+/// The wetted sums a backend added up outside core (FlatWettedSums.cpp), with no pressure sums.
+WettedSums wettedSumsOf(const FlatWettedSums& in);
+
+}  // namespace hydrotex::detail

@@ -1,0 +1,340 @@
+// SPDX-License-Identifier: Zlib
+/// @file LiquidSurface.cpp
+/// Flat plane, Gerstner waves, height grid and uniform medium behind LiquidSurface.
+
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace hydrotex {
+
+namespace {
+constexpr double kTwoPi = 6.28318530717958647692;
+
+bool positiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
+}  // namespace
+
+// ---- LiquidSurface defaults -------------------------------------------------------------------
+
+Eigen::Vector3d LiquidSurface::velocity(const Eigen::Vector3d& /*worldPoint*/, double /*time*/) const {
+  return Eigen::Vector3d::Zero();
+}
+
+double LiquidSurface::pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const {
+  // Hydrostatic pressure under the local free surface: p = rho g (h - y), 0 above it.
+  const double depth = surfaceHeight(worldPoint.x(), worldPoint.z(), time) - worldPoint.y();
+  return depth > 0.0 ? densityAt(worldPoint) * gravity * depth : 0.0;
+}
+
+std::pair<double, double> LiquidSurface::heightRange(double /*time*/) const {
+  return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+}
+
+double LiquidSurface::densityAt(const Eigen::Vector3d& /*worldPoint*/) const { return density(); }
+
+std::optional<SurfaceJet> LiquidSurface::heightJet(double /*x*/, double /*z*/, double /*time*/) const {
+  return std::nullopt;
+}
+
+std::optional<SurfaceSmoothness> LiquidSurface::smoothness(double /*time*/) const { return std::nullopt; }
+
+// ---- FlatSurface ------------------------------------------------------------------------------
+
+FlatSurface::FlatSurface(double height, double density) : height_(height), density_(density) {}
+
+double FlatSurface::surfaceHeight(double /*x*/, double /*z*/, double /*time*/) const { return height_; }
+
+Status FlatSurface::validate() const {
+  if (!positiveFinite(density_)) return Error{"flat surface: density " + std::to_string(density_) + " kg/m^3 is not positive"};
+  if (!std::isfinite(height_)) return Error{"flat surface: height is not finite"};
+  return Ok{};
+}
+
+// ---- GerstnerWaves ----------------------------------------------------------------------------
+// Tessendorf 2001, "Simulating Ocean Water", eq. 9: a rest point x0 moves to
+// x0 - Q A d sin(k d.x0 - w t + phase), y = mean + A cos(k d.x0 - w t + phase), w^2 = g k.
+
+GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, double density, double gravity)
+    : waves_(std::move(waves)), meanLevel_(meanLevel), density_(density), gravity_(gravity) {
+  components_.reserve(waves_.size());
+  for (const GerstnerWave& wave : waves_) {
+    const double k = wave.wavelength > 0.0 ? kTwoPi / wave.wavelength : 0.0;
+    const double norm = wave.direction.norm();
+    const Eigen::Vector2d dir = norm > 0.0 ? Eigen::Vector2d(wave.direction / norm) : Eigen::Vector2d(1.0, 0.0);
+    components_.push_back({wave.amplitude, k, std::sqrt(std::max(gravity, 0.0) * k), wave.phase, wave.steepness,
+                           dir.x(), dir.y()});
+  }
+}
+
+double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
+
+namespace {
+// sin and cos of a small angle |a| <= kRotationLimit by their Taylor series to a^13 and a^12
+// (truncation under 1e-15): a Newton step moves each phase by little, so the search for a jet
+// turns the last sines and cosines by the step instead of calling sin and cos again.
+constexpr double kRotationLimit = 0.5;
+void smallSineCosine(double a, double& sine, double& cosine) {
+  const double a2 = a * a;
+  sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 + a2 * (-1.0 / 39916800 + a2 / 6227020800.0))))));
+  cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600.0)))));
+}
+}  // namespace
+
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
+                                                  bool turnPhases) const {
+  // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
+  // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
+  // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
+  // contracts while sum Q k A < 1. The height returned is that of the last evaluated rest point,
+  // within one (sub-tolerance) step of the solution.
+  constexpr int kMaxIterations = 24;
+  constexpr double kMinDeterminant = 0.1;
+  RestPoint p{};
+  p.x0 = x;
+  p.z0 = z;
+  turnPhases = turnPhases && components_.size() <= kCachedWaves;
+  double stepX = 0.0, stepZ = 0.0;
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
+    for (std::size_t w = 0; w < components_.size(); ++w) {
+      const Component& c = components_[w];
+      double sine, cosine;
+      const double turn = iteration > 0 && turnPhases ? -c.waveNumber * (c.dirX * stepX + c.dirZ * stepZ) : INFINITY;
+      if (std::abs(turn) <= kRotationLimit) {
+        double s, co;
+        smallSineCosine(turn, s, co);
+        sine = p.sine[w] * co + p.cosine[w] * s;
+        cosine = p.cosine[w] * co - p.sine[w] * s;
+      } else {
+        const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+        sine = std::sin(theta);
+        cosine = std::cos(theta);
+      }
+      if (w < kCachedWaves) {
+        p.sine[w] = sine;
+        p.cosine[w] = cosine;
+      }
+      const double horizontal = c.steepness * c.amplitude;
+      hx -= horizontal * sine * c.dirX;
+      hz -= horizontal * sine * c.dirZ;
+      height += c.amplitude * cosine;
+      const double slope = horizontal * c.waveNumber * cosine;
+      jxx -= slope * c.dirX * c.dirX;
+      jxz -= slope * c.dirX * c.dirZ;
+      jzz -= slope * c.dirZ * c.dirZ;
+      const double rise = -c.amplitude * c.waveNumber * sine;
+      gx += rise * c.dirX;
+      gz += rise * c.dirZ;
+    }
+    p.height = meanLevel_ + height;
+    p.jxx = jxx;
+    p.jxz = jxz;
+    p.jzz = jzz;
+    p.gx = gx;
+    p.gz = gz;
+    const double rx = p.x0 + hx - x, rz = p.z0 + hz - z;
+    const double determinant = jxx * jzz - jxz * jxz;
+    stepX = rx;
+    stepZ = rz;
+    if (determinant > kMinDeterminant) {
+      stepX = (jzz * rx - jxz * rz) / determinant;
+      stepZ = (jxx * rz - jxz * rx) / determinant;
+    }
+    if (std::abs(stepX) + std::abs(stepZ) < tolerance) return p;
+    if (iteration + 1 < kMaxIterations) {
+      p.x0 -= stepX;
+      p.z0 -= stepZ;
+    }
+  }
+  return p;  // not converged: the values of the last evaluated point
+}
+
+std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double time) const {
+  // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
+  // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
+  // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
+  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance, true);
+  SurfaceJet jet;
+  jet.height = p.height;
+  const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;
+  if (!(determinant > 0.0)) return std::nullopt;  // the displacement map folds here
+  const double ixx = p.jzz / determinant, ixz = -p.jxz / determinant, izz = p.jxx / determinant;
+  jet.slopeX = ixx * p.gx + ixz * p.gz;
+  jet.slopeZ = ixz * p.gx + izz * p.gz;
+  for (std::size_t w = 0; w < components_.size(); ++w) {
+    const Component& c = components_[w];
+    double sine, cosine;
+    if (w < kCachedWaves) {
+      sine = p.sine[w];
+      cosine = p.cosine[w];
+    } else {
+      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+      sine = std::sin(theta);
+      cosine = std::cos(theta);
+    }
+    const double k2 = c.amplitude * c.waveNumber * c.waveNumber;
+    const double weight = -k2 * cosine - c.steepness * k2 * sine * (jet.slopeX * c.dirX + jet.slopeZ * c.dirZ);
+    const double ex = ixx * c.dirX + ixz * c.dirZ, ez = ixz * c.dirX + izz * c.dirZ;
+    jet.curvatureXX += weight * ex * ex;
+    jet.curvatureXZ += weight * ex * ez;
+    jet.curvatureZZ += weight * ez * ez;
+  }
+  return jet;
+}
+
+std::optional<SurfaceSmoothness> GerstnerWaves::smoothness(double /*time*/) const {
+  // Along a line x = c + s e (|e| = 1) the rest point y(s) solves J(y) y' = e. With
+  // K_n = sum Q A k^n, S_n = sum A k^n and sigma = 1 - K_1 (J's smallest eigenvalue at worst),
+  // differentiating J y' = e up to three times bounds |y^(n)| by a_n below; the chain rule on
+  // eta0(y(s)) (|D^n eta0| <= S_n) then bounds the height's third and fourth derivatives.
+  double s[5] = {0, 0, 0, 0, 0}, k[5] = {0, 0, 0, 0, 0};
+  for (const Component& c : components_) {
+    double power = 1.0;
+    for (int n = 1; n <= 4; ++n) {
+      power *= c.waveNumber;
+      s[n] += std::abs(c.amplitude) * power;
+      k[n] += c.steepness * std::abs(c.amplitude) * power;
+    }
+  }
+  const double sigma = 1.0 - k[1];
+  if (!(sigma > 0.0)) return std::nullopt;
+  const double a1 = 1.0 / sigma;
+  const double a2 = k[2] * a1 * a1 / sigma;
+  const double a3 = (3.0 * k[2] * a1 * a2 + k[3] * a1 * a1 * a1) / sigma;
+  const double a4 = (3.0 * k[2] * a1 * a3 + 3.0 * (k[3] * a1 * a1 + k[2] * a2) * a2 +
+                     (k[4] * a1 * a1 * a1 + 3.0 * k[3] * a1 * a2 + k[2] * a3) * a1) / sigma;
+  SurfaceSmoothness out;
+  out.third = s[3] * a1 * a1 * a1 + 3.0 * s[2] * a1 * a2 + s[1] * a3;
+  out.fourth = s[4] * a1 * a1 * a1 * a1 + 6.0 * s[3] * a1 * a1 * a2 + 3.0 * s[2] * a2 * a2 +
+               4.0 * s[2] * a1 * a3 + s[1] * a4;
+  return out;
+}
+
+std::pair<double, double> GerstnerWaves::heightRange(double /*time*/) const {
+  double amplitudes = 0.0;
+  for (const Component& c : components_) amplitudes += std::abs(c.amplitude);
+  return {meanLevel_ - amplitudes, meanLevel_ + amplitudes};
+}
+
+Eigen::Vector3d GerstnerWaves::velocity(const Eigen::Vector3d& worldPoint, double time) const {
+  const double surface = surfaceHeight(worldPoint.x(), worldPoint.z(), time);
+  if (worldPoint.y() > surface) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (const Component& c : components_) {
+    const double theta = c.waveNumber * (c.dirX * worldPoint.x() + c.dirZ * worldPoint.z()) - c.omega * time + c.phase;
+    // Linear theory: orbital speeds decay as exp(k (y - surface)) below the surface.
+    const double decay = std::exp(c.waveNumber * (worldPoint.y() - surface));
+    const double horizontal = c.steepness * c.amplitude * c.omega * std::cos(theta) * decay;
+    v.x() += horizontal * c.dirX;
+    v.z() += horizontal * c.dirZ;
+    v.y() += c.amplitude * c.omega * std::sin(theta) * decay;
+  }
+  return v;
+}
+
+Status GerstnerWaves::validate() const {
+  if (!positiveFinite(density_)) return Error{"Gerstner waves: density " + std::to_string(density_) + " kg/m^3 is not positive"};
+  if (!positiveFinite(gravity_)) return Error{"Gerstner waves: gravity " + std::to_string(gravity_) + " m/s^2 is not positive"};
+  if (!std::isfinite(meanLevel_)) return Error{"Gerstner waves: mean level is not finite"};
+  for (std::size_t i = 0; i < waves_.size(); ++i) {
+    const GerstnerWave& w = waves_[i];
+    const std::string name = "Gerstner wave " + std::to_string(i);
+    if (!positiveFinite(w.wavelength)) return Error{name + ": wavelength is not positive"};
+    if (!std::isfinite(w.amplitude) || w.amplitude < 0.0) return Error{name + ": amplitude is negative or not finite"};
+    if (!std::isfinite(w.steepness) || w.steepness < 0.0 || w.steepness > 1.0) return Error{name + ": steepness is outside [0, 1]"};
+    if (!std::isfinite(w.phase) || !w.direction.allFinite() || w.direction.norm() == 0.0)
+      return Error{name + ": phase or direction is not finite (or the direction is zero)"};
+  }
+  return Ok{};
+}
+
+// ---- HeightGrid -------------------------------------------------------------------------------
+
+HeightGrid::HeightGrid(int countX, int countZ, double spacing, double originX, double originZ, double level,
+                       double density)
+    : countX_(countX), countZ_(countZ), spacing_(spacing), originX_(originX), originZ_(originZ), density_(density) {
+  const std::size_t count = countX > 0 && countZ > 0 ? std::size_t(countX) * std::size_t(countZ) : 0;
+  heights_.assign(count, level);
+  velocities_.assign(count, Eigen::Vector3d::Zero());
+}
+
+namespace {
+/// Bilinear weights on a clamped regular grid.
+struct GridCell {
+  std::size_t i00, i10, i01, i11;
+  double fx, fz;
+};
+GridCell locate(double x, double z, int countX, int countZ, double spacing, double originX, double originZ) {
+  const double gx = std::clamp((x - originX) / spacing, 0.0, double(countX - 1));
+  const double gz = std::clamp((z - originZ) / spacing, 0.0, double(countZ - 1));
+  const int ix = std::min(int(gx), countX - 2);
+  const int iz = std::min(int(gz), countZ - 2);
+  const std::size_t base = std::size_t(iz) * std::size_t(countX) + std::size_t(ix);
+  return {base, base + 1, base + std::size_t(countX), base + std::size_t(countX) + 1, gx - ix, gz - iz};
+}
+}  // namespace
+
+double HeightGrid::surfaceHeight(double x, double z, double /*time*/) const {
+  if (std::isnan(x) || std::isnan(z) || heights_.size() < 4) return std::numeric_limits<double>::quiet_NaN();
+  const GridCell c = locate(x, z, countX_, countZ_, spacing_, originX_, originZ_);
+  return (1 - c.fz) * ((1 - c.fx) * heights_[c.i00] + c.fx * heights_[c.i10]) +
+         c.fz * ((1 - c.fx) * heights_[c.i01] + c.fx * heights_[c.i11]);
+}
+
+std::pair<double, double> HeightGrid::heightRange(double /*time*/) const {
+  if (heights_.empty()) return LiquidSurface::heightRange(0.0);
+  const auto [lowest, highest] = std::minmax_element(heights_.begin(), heights_.end());
+  return {*lowest, *highest};
+}
+
+Eigen::Vector3d HeightGrid::velocity(const Eigen::Vector3d& worldPoint, double time) const {
+  if (!(worldPoint.y() <= surfaceHeight(worldPoint.x(), worldPoint.z(), time))) return Eigen::Vector3d::Zero();
+  const GridCell c = locate(worldPoint.x(), worldPoint.z(), countX_, countZ_, spacing_, originX_, originZ_);
+  return (1 - c.fz) * ((1 - c.fx) * velocities_[c.i00] + c.fx * velocities_[c.i10]) +
+         c.fz * ((1 - c.fx) * velocities_[c.i01] + c.fx * velocities_[c.i11]);
+}
+
+Status HeightGrid::validate() const {
+  if (countX_ < 2 || countZ_ < 2) return Error{"height grid: needs at least 2 x 2 samples, has " + std::to_string(countX_) + " x " + std::to_string(countZ_)};
+  if (!positiveFinite(spacing_)) return Error{"height grid: spacing is not positive"};
+  if (!positiveFinite(density_)) return Error{"height grid: density " + std::to_string(density_) + " kg/m^3 is not positive"};
+  if (!std::isfinite(originX_) || !std::isfinite(originZ_)) return Error{"height grid: origin is not finite"};
+  const std::size_t count = std::size_t(countX_) * std::size_t(countZ_);
+  if (heights_.size() != count || velocities_.size() != count) return Error{"height grid: sample arrays were resized"};
+  for (std::size_t i = 0; i < count; ++i)
+    if (!std::isfinite(heights_[i]) || !velocities_[i].allFinite())
+      return Error{"height grid: sample " + std::to_string(i) + " is not finite"};
+  return Ok{};
+}
+
+// ---- UniformMedium ----------------------------------------------------------------------------
+
+UniformMedium::UniformMedium(double densityAtReference, double scaleHeight, double referenceHeight)
+    : density0_(densityAtReference), scaleHeight_(scaleHeight), referenceHeight_(referenceHeight) {}
+
+double UniformMedium::surfaceHeight(double /*x*/, double /*z*/, double /*time*/) const {
+  return std::numeric_limits<double>::infinity();
+}
+
+double UniformMedium::pressure(const Eigen::Vector3d& worldPoint, double /*time*/, double gravity) const {
+  // dp/dy = -rho(y) g. Isothermal atmosphere: p = rho0 g H exp(-(y - y0)/H) (zero at +infinity).
+  if (std::isinf(scaleHeight_)) return density0_ * gravity * (referenceHeight_ - worldPoint.y());
+  return density0_ * gravity * scaleHeight_ * std::exp(-(worldPoint.y() - referenceHeight_) / scaleHeight_);
+}
+
+double UniformMedium::densityAt(const Eigen::Vector3d& worldPoint) const {
+  if (std::isinf(scaleHeight_)) return density0_;
+  return density0_ * std::exp(-(worldPoint.y() - referenceHeight_) / scaleHeight_);
+}
+
+Status UniformMedium::validate() const {
+  if (!positiveFinite(density0_)) return Error{"uniform medium: density " + std::to_string(density0_) + " kg/m^3 is not positive"};
+  if (std::isnan(scaleHeight_) || scaleHeight_ <= 0.0) return Error{"uniform medium: scale height is not positive"};
+  if (!std::isfinite(referenceHeight_)) return Error{"uniform medium: reference height is not finite"};
+  return Ok{};
+}
+
+}  // namespace hydrotex

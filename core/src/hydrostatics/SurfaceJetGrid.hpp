@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file SurfaceJetGrid.hpp
+/// Private to core: a per-query grid of surface jets (height, slopes, mixed curvature) over a
+/// body's horizontal footprint, sampled lazily and interpolated by bicubic Hermite patches, so
+/// that the tile hierarchy under waves asks the surface a few dozen times instead of once per
+/// texel (a Gerstner height costs a Newton search). Lives on the stack: a query does not allocate.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+
+namespace hydrotex::detail {
+
+/// Jets sampled on a square grid in a frame translated by `originX`, `originZ` (world), and their
+/// bicubic Hermite interpolant with error bounds from the surface's SurfaceSmoothness.
+class SurfaceJetGrid {
+ public:
+  /// Most samples per side: 40 x 40 jets (~50 KiB on the stack).
+  static constexpr int kMaxSide = 40;
+
+  /// Covers the local box [lowX, highX] x [lowZ, highZ] (m, relative to the origin) with samples
+  /// `spacing` (m) apart, widened when the box would need more than kMaxSide per side.
+  SurfaceJetGrid(const LiquidSurface& surface, double time, double originX, double originZ, double lowX,
+                 double highX, double lowZ, double highZ, double spacing)
+      : surface_(surface), time_(time), originX_(originX), originZ_(originZ), lowX_(lowX), lowZ_(lowZ) {
+    const double extent = std::max(highX - lowX, highZ - lowZ);
+    spacing_ = std::max(spacing, extent / double(kMaxSide - 1));
+    if (!(spacing_ > 0.0)) spacing_ = 1.0;  // a point footprint: one cell
+    sideX_ = std::clamp(int(std::ceil((highX - lowX) / spacing_)) + 1, 2, kMaxSide);
+    sideZ_ = std::clamp(int(std::ceil((highZ - lowZ) / spacing_)) + 1, 2, kMaxSide);
+    std::fill(state_.begin(), state_.begin() + sideX_ * sideZ_, std::uint8_t(0));
+  }
+
+  /// Sample spacing in use (m).
+  double spacing() const { return spacing_; }
+
+  /// Interpolated jet at the local point (x, z) (m, relative to the origin; clamped into the
+  /// grid). False when a sample the point needs has no jet (the surface folds, or is not finite).
+  bool interpolate(double x, double z, SurfaceJet& out) {
+    const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
+    const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
+    const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
+    const double t = gx - i, w = gz - j;
+    const Node* corner[2][2];
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        corner[a][b] = node(i + a, j + b);
+        if (!corner[a][b]) return false;
+      }
+    // Cubic Hermite basis and its first two derivatives, ordered (value at node 0, slope at
+    // node 0, value at node 1, slope at node 1).
+    double bt[4][3], bw[4][3];
+    hermite(t, bt);
+    hermite(w, bw);
+    const double s = spacing_;
+    double rows[4][3];  // contracted over the z basis, for each x basis function and z order
+    for (int alpha = 0; alpha < 4; ++alpha) {
+      const int a = alpha / 2;
+      const bool xSlope = alpha % 2 == 1;
+      for (int order = 0; order < 3; ++order) {
+        double sum = 0.0;
+        for (int beta = 0; beta < 4; ++beta) {
+          const Node& n = *corner[a][beta / 2];
+          const bool zSlope = beta % 2 == 1;
+          const double c = xSlope ? (zSlope ? s * s * n.fxz : s * n.fx) : (zSlope ? s * n.fz : n.f);
+          sum += c * bw[beta][order];
+        }
+        rows[alpha][order] = sum;
+      }
+    }
+    auto combine = [&](int xOrder, int zOrder) {
+      double sum = 0.0;
+      for (int alpha = 0; alpha < 4; ++alpha) sum += bt[alpha][xOrder] * rows[alpha][zOrder];
+      return sum;
+    };
+    const double inv = 1.0 / s;
+    out.height = combine(0, 0);
+    out.slopeX = combine(1, 0) * inv;
+    out.slopeZ = combine(0, 1) * inv;
+    out.curvatureXX = combine(2, 0) * inv * inv;
+    out.curvatureXZ = combine(1, 1) * inv * inv;
+    out.curvatureZZ = combine(0, 2) * inv * inv;
+    return true;
+  }
+
+ private:
+  struct Node {
+    double f, fx, fz, fxz;  // height (m relative to nothing: world), slopes, mixed curvature
+  };
+
+  // The sample (i, j), evaluated on first use; nullptr when the surface gives no jet there.
+  const Node* node(int i, int j) {
+    const int index = j * sideX_ + i;
+    if (state_[std::size_t(index)] == 0) {
+      const std::optional<SurfaceJet> jet =
+          surface_.heightJet(originX_ + lowX_ + i * spacing_, originZ_ + lowZ_ + j * spacing_, time_);
+      const bool usable = jet && std::isfinite(jet->height) && std::isfinite(jet->slopeX) &&
+                          std::isfinite(jet->slopeZ) && std::isfinite(jet->curvatureXZ);
+      if (usable) nodes_[std::size_t(index)] = Node{jet->height, jet->slopeX, jet->slopeZ, jet->curvatureXZ};
+      state_[std::size_t(index)] = usable ? 1 : 2;
+    }
+    return state_[std::size_t(index)] == 1 ? &nodes_[std::size_t(index)] : nullptr;
+  }
+
+  static void hermite(double t, double (&b)[4][3]) {
+    const double t2 = t * t, t3 = t2 * t;
+    b[0][0] = 2 * t3 - 3 * t2 + 1;  b[0][1] = 6 * t2 - 6 * t;       b[0][2] = 12 * t - 6;
+    b[1][0] = t3 - 2 * t2 + t;      b[1][1] = 3 * t2 - 4 * t + 1;   b[1][2] = 6 * t - 4;
+    b[2][0] = -2 * t3 + 3 * t2;     b[2][1] = -6 * t2 + 6 * t;      b[2][2] = -12 * t + 6;
+    b[3][0] = t3 - t2;              b[3][1] = 3 * t2 - 2 * t;       b[3][2] = 6 * t - 2;
+  }
+
+  const LiquidSurface& surface_;
+  double time_, originX_, originZ_, lowX_, lowZ_;
+  double spacing_ = 1.0;
+  int sideX_ = 2, sideZ_ = 2;
+  std::array<Node, std::size_t(kMaxSide) * kMaxSide> nodes_;
+  std::array<std::uint8_t, std::size_t(kMaxSide) * kMaxSide> state_;
+};
+
+}  // namespace hydrotex::detail
+
+namespace hydrotex::detail {
+
+/// Bounds (m, dimensionless, 1/m) of the error of SurfaceJetGrid's interpolated height, slopes
+/// and curvatures for samples `spacing` (m) apart on a surface whose fourth directional
+/// derivative is at most `fourth` (1/m^3): the one-dimensional cubic Hermite bounds
+/// (s^4/384, sqrt(3)/216 s^3, s^2/12 times the fourth derivative), doubled for the two directions
+/// of the tensor product (an estimate: the fifth-order cross terms are left out;
+/// test_texture_hydrostatics_waves checks it against the surface).
+struct HermiteError {
+  double height, slope, curvature;
+};
+inline HermiteError hermiteError(double spacing, double fourth) {
+  const double s2 = spacing * spacing;
+  return {2.0 * s2 * s2 / 384.0 * fourth, 2.0 * 0.0080187537387 * s2 * spacing * fourth, 2.0 * s2 / 12.0 * fourth};
+}
+
+}  // namespace hydrotex::detail

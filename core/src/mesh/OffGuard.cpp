@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Zlib
+/// @file OffGuard.cpp
+/// See OffGuard.hpp. Only the counts are checked; everything else is assimp's reader's job.
+
+#include "mesh/OffGuard.hpp"
+#include "mesh/TextCase.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+
+namespace hydrotex::detail {
+namespace {
+
+/// The next whitespace-separated token from `at`, skipping '#' comments to their line's end.
+std::string_view nextToken(std::string_view text, std::size_t& at) {
+  while (at < text.size()) {
+    if (std::isspace(static_cast<unsigned char>(text[at])) != 0) {
+      ++at;
+    } else if (text[at] == '#') {
+      while (at < text.size() && text[at] != '\n') ++at;
+    } else {
+      break;
+    }
+  }
+  const std::size_t start = at;
+  while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])) == 0) ++at;
+  return text.substr(start, at - start);
+}
+
+bool endsWithOff(std::string_view token) { return token.size() >= 3 && lowered(token.substr(token.size() - 3)) == "off"; }
+
+}  // namespace
+
+std::optional<std::string> offTrap(std::string_view head, std::size_t fileSize, bool offHint) {
+  std::size_t at = 0;
+  std::string_view token = nextToken(head, at);
+  // The keyword (OFF, COFF, NOFF, STOFF, 4OFF, ...) may be left out when the name says OFF.
+  if (endsWithOff(token)) {
+    token = nextToken(head, at);
+  } else if (!offHint) {
+    return std::nullopt;
+  }
+  // Vertex count, then face count: each entry takes at least 2 bytes (a digit and a blank), so a
+  // count beyond half the file is no data, only an allocation. The reader takes a token's leading
+  // digits as the count ("1000000000$0" is 1e9 to it; fuzz_mesh), and so does this check.
+  for (const char* what : {"vertices", "faces"}) {
+    std::uint64_t count = 0;
+    const auto [stop, error] = std::from_chars(token.data(), token.data() + token.size(), count);
+    if (stop == token.data()) return std::nullopt;  // no digits: assimp's reader says what is wrong
+    if (error != std::errc() || count > fileSize / 2)
+      return "OFF header declares " + std::string(token.substr(0, 32)) + " " + what + ", more than the file's " +
+             std::to_string(fileSize) + " bytes hold";
+    token = nextToken(head, at);
+  }
+  return std::nullopt;
+}
+
+}  // namespace hydrotex::detail
