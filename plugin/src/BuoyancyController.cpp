@@ -625,17 +625,11 @@ void BuoyancyController::planBody(FloatingBody& floating) {
     step.plan = BodyStep::Plan::Static;
     return;
   }
-  // Bodies wholly out of the liquid cost a bounding-sphere test. Away from a flat plane the
-  // surface may rise within the sphere's footprint; slopes up to 1 are covered by the margin.
+  // Bodies wholly out of the liquid cost a bounding-sphere test.
   const Pose meshPose = toPose(step.meshWorld);
-  if (surface.hasFreeSurface()) {
-    const Eigen::Vector3d sphere = meshPose.apply(floating.boundsCenter);
-    const double margin = surface.flatHeight() ? 0.0 : floating.boundsRadius;
-    const double level = surface.flatHeight() ? *surface.flatHeight() : surface.surfaceHeight(sphere.x(), sphere.z(), time_);
-    if (sphere.y() - floating.boundsRadius > level + margin) {
-      step.plan = BodyStep::Plan::OutOfLiquid;
-      return;
-    }
+  if (whollyAboveSurface(surface, meshPose.apply(floating.boundsCenter), floating.boundsRadius, time_)) {
+    step.plan = BodyStep::Plan::OutOfLiquid;
+    return;
   }
   step.plan = BodyStep::Plan::Compute;
   const EffectSet effects = floating.settings.effects;
@@ -708,12 +702,13 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   // Buoyancy (and the submerged volume that added mass needs): the backend's answer for a texture
   // body, the exact path here for the others.
   const double pressureGravity = -gravity.y();
-  Eigen::Vector3d buoyancyForce = Eigen::Vector3d::Zero(), buoyancyTorque = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  bool answered = false;
   if ((effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
-    std::optional<HydrostaticsResult> answer;
     if (step.query) {
-      if (!step.queryFailed) answer = answers_[*step.query];
+      if (!step.queryFailed) {
+        report.hydrostatics = answers_[*step.query];
+        answered = true;
+      }
     } else {
       HydrostaticsQuery query;
       query.pose = meshPose;
@@ -722,19 +717,12 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
       query.time = time_;
       query.mass = mass;
       ++counters.hydrostaticsQueries;
-      Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query);
-      if (exact) answer = *exact;
-    }
-    if (answer) {
-      report.hydrostatics = *answer;
-      if (effects.has(Effect::Buoyancy)) {
-        buoyancyForce = answer->buoyancyForce;
-        buoyancyTorque = answer->torqueAboutCenterOfMass;
-        stiffness = answer->stiffness;
+      if (Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query)) {
+        report.hydrostatics = *exact;
+        answered = true;
       }
-    } else {
-      ++counters.failedQueries;
     }
+    if (!answered) ++counters.failedQueries;
   }
 
   RigidBodyMotion motion;
@@ -746,55 +734,43 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   // In double from the mesh-axes inertia: Bullet's float inverse inertia, inverted, loses the
   // small moment of a needle (inverse moments 1e10 and 1e4 kg^-1 m^-2 in one float matrix).
   motion.inertiaWorld = meshPose.rotation * report.massProperties.inertia * meshPose.rotation.transpose();
-  const Eigen::Vector3d& v = motion.linearVelocity;
-  const Eigen::Vector3d& w = motion.angularVelocity;
 
-  // Drag: a pass over the drag patches, only for bodies that list it (RigidBodyStep.hpp).
-  DragLoads drag;
-  drag.liquidVelocityAtCenter = toEigen(liquid_.current);
+  // The laws (drag, added mass, the implicit update, the rest rule) are core's (RigidBodyStep.hpp).
+  RigidBodyStepInput input;
+  input.gravity = gravity;
+  input.hydrostatics = answered ? &report.hydrostatics : nullptr;
+  input.buoyancy = effects.has(Effect::Buoyancy);
+  if (effects.has(Effect::AddedMass)) input.addedMassCoefficient = settings.addedMassCoefficient;
+  DragBody dragBody;
   if (effects.has(Effect::Drag)) {
-    ++counters.dragPasses;
-    DragBody dragBody;
     dragBody.patches = *floating.dragPatches;
     dragBody.totalPatchArea = floating.totalDragPatchArea;
     dragBody.referenceLength = floating.referenceLength;
     dragBody.coefficients = settings.drag;
     dragBody.rotationalDamping = settings.rotationalDamping;
-    drag = rigidBodyDrag(dragBody, motion, DragLiquid{&surface, toEigen(liquid_.current), liquid_.viscosity, time_}, dt);
-    counters.dragPatchesVisited += drag.patchesVisited;
-    report.dragForce = toBullet(drag.force);
-    report.dragTorque = toBullet(drag.torque);
+    input.drag = &dragBody;
   }
-
-  // Added mass: the liquid accelerated with the body, from the submerged volume.
-  ImplicitUpdateInput update;
-  if (effects.has(Effect::AddedMass)) {
-    ++counters.addedMassUpdates;
-    update.addedMass = settings.addedMassCoefficient * report.hydrostatics.fluidDensity * report.hydrostatics.submergedVolume;
-    report.addedMass = update.addedMass;
+  input.liquid = DragLiquid{&surface, toEigen(liquid_.current), liquid_.viscosity, time_};
+  input.referenceLength = floating.referenceLength;
+  input.rest = RestThresholds{settings_.restForceFraction, settings_.restLinearSpeed, settings_.restAngularSpeed};
+  const Expected<RigidBodyStepResult> stepped = stepRigidBody(motion, input, dt);
+  if (input.drag != nullptr) {
+    ++counters.dragPasses;
+    if (stepped) counters.dragPatchesVisited += stepped->drag.patchesVisited;
   }
-  update.gravity = gravity;
-  update.force = buoyancyForce + drag.force;
-  update.torque = buoyancyTorque + drag.torque;
-  update.stiffness = stiffness;
-  update.dragDamping = drag.damping;
-  const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, update, dt);
-  if (!next) {
+  if (input.addedMassCoefficient) ++counters.addedMassUpdates;
+  if (!stepped) {
     ++counters.failedQueries;
     return;
   }
-  const Eigen::Vector3d liquidVelocityAtCenter = drag.liquidVelocityAtCenter;
-  const Eigen::Vector3d dragForce = drag.force, dragTorque = drag.torque;
+  report.dragForce = toBullet(stepped->drag.force);
+  report.dragTorque = toBullet(stepped->drag.torque);
+  report.addedMass = stepped->addedMass;
+  report.atRest = stepped->atRest;
+  const RigidBodyVelocities& next = stepped->velocities;
 
-  // Rest afloat: balanced and slow. Until then the body is kept awake, so that Bullet's sleeping
-  // thresholds (0.8 m/s for 2 s) cannot freeze a slow oscillation.
-  const double weight = mass * gravity.norm();
-  const Eigen::Vector3d netForce = mass * gravity + buoyancyForce + dragForce;
-  const Eigen::Vector3d netTorque = buoyancyTorque + dragTorque;
-  report.atRest = netForce.norm() <= settings_.restForceFraction * weight &&
-                  netTorque.norm() <= settings_.restForceFraction * weight * floating.referenceLength &&
-                  (v - liquidVelocityAtCenter).norm() <= settings_.restLinearSpeed &&
-                  w.norm() <= settings_.restAngularSpeed;
+  // Until at rest the body is kept awake, so that Bullet's sleeping thresholds (0.8 m/s for 2 s)
+  // cannot freeze a slow oscillation; a sleeping body that is not at rest is woken.
   if (!step.active) {
     if (report.atRest) {
       ++counters.skippedAsleep;
@@ -804,8 +780,8 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   } else if (!report.atRest) {
     step.holdAwake = true;
   }
-  step.nextLinear = toBullet(next->linear);
-  step.nextAngular = toBullet(next->angular);
+  step.nextLinear = toBullet(next.linear);
+  step.nextAngular = toBullet(next.angular);
   step.setLinear = step.setAngular = true;
 }
 
@@ -896,14 +872,13 @@ void BuoyancyController::flood(FloatingBody& floating, double dt) {
   followMassModel(floating);
   const double massAfter = floating.report.massProperties.mass;
   if (massAfter == massBefore || !(massAfter > 0.0)) return;
-  // setMassProperties kept the momentum m v, i.e. liquid that enters at rest. Liquid enters with
-  // the liquid's velocity and leaves with the body's: P' = m v + rho (V_in u_liquid - V_out v).
+  // setMassProperties kept the momentum m v (liquid entering at rest); core's law adds the
+  // momentum the liquid brings in and takes out (RigidBodyStep.hpp).
   const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
   const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
   const Eigen::Vector3d liquidVelocity = surface.velocity(center, time_) + toEigen(liquid_.current);
-  const Eigen::Vector3d bodyVelocityBefore = v * (massAfter / massBefore);
   const Eigen::Vector3d correction =
-      density * (stepped.inflow * liquidVelocity - stepped.outflow * bodyVelocityBefore) / massAfter;
+      floodingVelocityCorrection(v, liquidVelocity, massBefore, massAfter, density, stepped.inflow, stepped.outflow);
   body->setLinearVelocity(toBullet(Eigen::Vector3d(v + correction)));
 }
 

@@ -174,3 +174,107 @@ TEST_CASE("rigid body drag sums the law over wet patches and slows without rever
   CHECK(dry.force.norm() == 0.0);
   CHECK(dry.damping == 0.0);
 }
+
+TEST_CASE("a body is out of the liquid when its bounding sphere clears the surface", "[step]") {
+  const FlatSurface water(0.0, 1000.0);
+  // Flat: exact, no margin. A sphere of radius 1 whose lowest point is 1 mm above the plane.
+  CHECK(whollyAboveSurface(water, {0, 1.001, 0}, 1.0, 0.0));
+  CHECK_FALSE(whollyAboveSurface(water, {0, 0.999, 0}, 1.0, 0.0));
+  // Waves: one radius of margin above the height at the centre (slopes up to 1 in the footprint).
+  const GerstnerWaves sea({GerstnerWave{0.5, 20.0, {1.0, 0.0}, 0.0, 0.0}});
+  const double level = sea.surfaceHeight(3.0, 0.0, 1.5);
+  CHECK(whollyAboveSurface(sea, {3.0, level + 2.001, 0.0}, 1.0, 1.5));
+  CHECK_FALSE(whollyAboveSurface(sea, {3.0, level + 1.999, 0.0}, 1.0, 1.5));
+  // A medium holds every body, however high.
+  const UniformMedium air;
+  CHECK_FALSE(whollyAboveSurface(air, {0, 1.0e4, 0}, 1.0, 0.0));
+}
+
+TEST_CASE("stepRigidBody: a body sinking with added mass accelerates as (m - rho V) g / (m + C_a rho V)", "[step]") {
+  // A 1 m^3 cube of 2000 kg wholly under water, at rest, no drag: Newton with the added mass on
+  // the translation gives the closed-form acceleration; one explicit step without stiffness is
+  // v' = dt a exactly (double rounding).
+  const double mass = 2000.0, rho = 1000.0, volume = 1.0, g = 9.81, ca = 0.5, dt = 1.0 / 60.0;
+  const RigidBodyMotion motion = cube(mass);
+  HydrostaticsResult water;
+  water.submergedVolume = volume;
+  water.fluidDensity = rho;
+  water.buoyancyForce = {0.0, rho * g * volume, 0.0};
+  const FlatSurface surface(10.0, rho);
+  RigidBodyStepInput input;
+  input.gravity = {0, -g, 0};
+  input.hydrostatics = &water;
+  input.addedMassCoefficient = ca;
+  input.liquid.surface = &surface;
+  const Expected<RigidBodyStepResult> stepped = stepRigidBody(motion, input, dt);
+  REQUIRE(stepped);
+  CHECK(stepped->addedMass == Approx(ca * rho * volume).epsilon(1e-15));
+  const double acceleration = -(mass - rho * volume) * g / (mass + ca * rho * volume);
+  CHECK(stepped->velocities.linear.y() == Approx(dt * acceleration).epsilon(1e-12));
+  CHECK(stepped->velocities.linear.x() == 0.0);
+  CHECK_FALSE(stepped->atRest);  // 9810 N out of balance
+  // Without the effect the same body accelerates as (m - rho V) g / m.
+  input.addedMassCoefficient.reset();
+  const Expected<RigidBodyStepResult> bare = stepRigidBody(motion, input, dt);
+  REQUIRE(bare);
+  CHECK(bare->addedMass == 0.0);
+  CHECK(bare->velocities.linear.y() == Approx(-dt * (mass - rho * volume) * g / mass).epsilon(1e-12));
+  // Buoyancy not listed: the answer still gives the added mass, but no force (free fall).
+  input.addedMassCoefficient = ca;
+  input.buoyancy = false;
+  const Expected<RigidBodyStepResult> falling = stepRigidBody(motion, input, dt);
+  REQUIRE(falling);
+  CHECK(falling->velocities.linear.y() == Approx(-dt * mass * g / (mass + ca * rho * volume)).epsilon(1e-12));
+}
+
+TEST_CASE("stepRigidBody: the rest rule is balanced and slow", "[step]") {
+  // A 500 kg cube floating with its weight balanced: at rest; 2 cm/s too fast, 0.2 % out of
+  // balance, or turning at 0.03 rad/s it is not (thresholds 0.02 m/s, 1e-3 of the weight, 0.02 rad/s).
+  const double mass = 500.0, g = 9.81, dt = 1.0 / 60.0;
+  const FlatSurface surface(0.0, 1000.0);
+  HydrostaticsResult water;
+  water.fluidDensity = 1000.0;
+  water.submergedVolume = 0.5;
+  water.buoyancyForce = {0.0, mass * g, 0.0};
+  RigidBodyStepInput input;
+  input.gravity = {0, -g, 0};
+  input.hydrostatics = &water;
+  input.liquid.surface = &surface;
+  RigidBodyMotion motion = cube(mass);
+  motion.linearVelocity = {0.0, 0.019, 0.0};
+  REQUIRE(stepRigidBody(motion, input, dt)->atRest);
+  motion.linearVelocity = {0.0, 0.021, 0.0};
+  CHECK_FALSE(stepRigidBody(motion, input, dt)->atRest);
+  motion.linearVelocity.setZero();
+  motion.angularVelocity = {0.0, 0.03, 0.0};
+  CHECK_FALSE(stepRigidBody(motion, input, dt)->atRest);
+  motion.angularVelocity.setZero();
+  water.buoyancyForce.y() = 1.002 * mass * g;
+  CHECK_FALSE(stepRigidBody(motion, input, dt)->atRest);
+  water.buoyancyForce.y() = mass * g;
+  // A torque over 1e-3 m g L (L = reference length, 1 m here) is out of balance too.
+  water.torqueAboutCenterOfMass = {0.0, 0.0, 1.1e-3 * mass * g};
+  CHECK_FALSE(stepRigidBody(motion, input, dt)->atRest);
+  // Speed counts relative to the current: a body carried along at the current's speed rests.
+  water.torqueAboutCenterOfMass.setZero();
+  input.liquid.current = {0.5, 0.0, 0.0};
+  motion.linearVelocity = {0.5, 0.0, 0.0};
+  CHECK(stepRigidBody(motion, input, dt)->atRest);
+}
+
+TEST_CASE("flooding keeps the momentum of the liquid that enters and leaves", "[step][flooding]") {
+  // A 1000 kg body moving at v_before = (2, 0, 0) m/s takes in 0.1 m^3 of still water moving at
+  // u = (0, 0, 1) m/s and lets out 0.02 m^3: the adapter kept m v (v = v_before m_before / m_after);
+  // the correction must give P' = m_before v_before + rho (V_in u - V_out v_before) exactly.
+  const double rho = 1000.0, massBefore = 1000.0, inflow = 0.1, outflow = 0.02;
+  const double massAfter = massBefore + rho * (inflow - outflow);
+  const Eigen::Vector3d velocityBefore(2.0, 0.0, 0.0), liquid(0.0, 0.0, 1.0);
+  const Eigen::Vector3d kept = velocityBefore * (massBefore / massAfter);
+  const Eigen::Vector3d corrected =
+      kept + floodingVelocityCorrection(kept, liquid, massBefore, massAfter, rho, inflow, outflow);
+  const Eigen::Vector3d momentum = massBefore * velocityBefore + rho * (inflow * liquid - outflow * velocityBefore);
+  CHECK((massAfter * corrected - momentum).norm() < 1e-12 * momentum.norm());
+  // No change of mass, or none left: no correction.
+  CHECK(floodingVelocityCorrection(kept, liquid, massBefore, massBefore, rho, 0.0, 0.0).isZero(0.0));
+  CHECK(floodingVelocityCorrection(kept, liquid, massBefore, 0.0, rho, inflow, outflow).isZero(0.0));
+}

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Zlib
 /// @file RigidBodyStep.cpp
-/// A rigid body's drag sum and implicit velocity update (RigidBodyStep.hpp): the laws of the
-/// phased step, once.
+/// A rigid body's step (RigidBodyStep.hpp): the out-of-liquid test, the drag sum, the added mass,
+/// the implicit velocity update, the rest rule and flooding's momentum: the laws of the phased
+/// step, once.
 
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -164,6 +165,66 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   const Vector6d next = system.ldlt().solve(rhs);
   if (!next.allFinite()) return Error{"implicit velocity update: the step's system gave non-finite velocities"};
   return RigidBodyVelocities{next.head<3>(), next.tail<3>()};
+}
+
+bool whollyAboveSurface(const LiquidSurface& surface, const Eigen::Vector3d& sphereCenter, double radius, double time) {
+  if (!surface.hasFreeSurface()) return false;
+  const std::optional<double> flat = surface.flatHeight();
+  // Away from a flat plane the surface may rise within the sphere's footprint; slopes up to 1 are
+  // covered by a margin of one radius.
+  const double level = flat ? *flat : surface.surfaceHeight(sphereCenter.x(), sphereCenter.z(), time);
+  const double margin = flat ? 0.0 : radius;
+  return sphereCenter.y() - radius > level + margin;
+}
+
+double translationalAddedMass(double coefficient, double fluidDensity, double submergedVolume) {
+  return coefficient * fluidDensity * submergedVolume;
+}
+
+Expected<RigidBodyStepResult> stepRigidBody(const RigidBodyMotion& motion, const RigidBodyStepInput& input, double dt) {
+  RigidBodyStepResult result;
+  Eigen::Vector3d buoyancyForce = Eigen::Vector3d::Zero(), buoyancyTorque = Eigen::Vector3d::Zero();
+  ImplicitUpdateInput update;
+  if (input.hydrostatics != nullptr && input.buoyancy) {
+    buoyancyForce = input.hydrostatics->buoyancyForce;
+    buoyancyTorque = input.hydrostatics->torqueAboutCenterOfMass;
+    update.stiffness = input.hydrostatics->stiffness;
+  }
+  result.drag.liquidVelocityAtCenter = input.liquid.current;
+  if (input.drag != nullptr) result.drag = rigidBodyDrag(*input.drag, motion, input.liquid, dt);
+  if (input.addedMassCoefficient && input.hydrostatics != nullptr) {
+    result.addedMass = translationalAddedMass(*input.addedMassCoefficient, input.hydrostatics->fluidDensity,
+                                              input.hydrostatics->submergedVolume);
+  }
+  update.gravity = input.gravity;
+  update.force = buoyancyForce + result.drag.force;
+  update.torque = buoyancyTorque + result.drag.torque;
+  update.addedMass = result.addedMass;
+  update.dragDamping = result.drag.damping;
+  Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, update, dt);
+  if (!next) return next.error();
+  result.velocities = *next;
+
+  // Rest afloat: balanced and slow, judged on the start of the step (the adapter keeps a body
+  // awake until then, whatever its engine's own sleeping thresholds say).
+  const double weight = motion.mass * input.gravity.norm();
+  const Eigen::Vector3d netForce = motion.mass * input.gravity + buoyancyForce + result.drag.force;
+  const Eigen::Vector3d netTorque = buoyancyTorque + result.drag.torque;
+  const RestThresholds& rest = input.rest;
+  result.atRest = netForce.norm() <= rest.forceFraction * weight &&
+                  netTorque.norm() <= rest.forceFraction * weight * input.referenceLength &&
+                  (motion.linearVelocity - result.drag.liquidVelocityAtCenter).norm() <= rest.linearSpeed &&
+                  motion.angularVelocity.norm() <= rest.angularSpeed;
+  return result;
+}
+
+Eigen::Vector3d floodingVelocityCorrection(const Eigen::Vector3d& velocity, const Eigen::Vector3d& liquidVelocity,
+                                           double massBefore, double massAfter, double density, double inflow,
+                                           double outflow) {
+  if (massAfter == massBefore || !(massAfter > 0.0) || !(massBefore > 0.0)) return Eigen::Vector3d::Zero();
+  // The body's velocity before the change, from the kept momentum m_after v = m_before v_before.
+  const Eigen::Vector3d bodyVelocityBefore = velocity * (massAfter / massBefore);
+  return density * (inflow * liquidVelocity - outflow * bodyVelocityBefore) / massAfter;
 }
 
 }  // namespace hydrotex

@@ -2,16 +2,19 @@
 #pragma once
 /// @file RigidBodyStep.hpp
 /// One rigid body's step in the liquid, as pure functions (docs/design.md "The phased step"): the
-/// drag sum over its patches and the implicit velocity update with the hydrostatic stiffness and
-/// the drag taken implicitly. A physics engine's adapter (the Bullet plugin) reads a body's
-/// kinematics, asks the backend for its hydrostatics, calls these, and writes the velocities back;
-/// the laws live here once, for every adapter and every backend.
+/// out-of-liquid test, the drag sum over its patches, the added mass, the implicit velocity update
+/// with the hydrostatic stiffness and the drag taken implicitly, the rest-afloat rule, and the
+/// momentum of liquid that floods in or drains out. A physics engine's adapter (the Bullet plugin)
+/// reads a body's kinematics, asks the backend for its hydrostatics, calls stepRigidBody, and
+/// writes the velocities back; the laws live here once, for every adapter and every backend.
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "hydrotex/Expected.hpp"
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/Pose.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
@@ -101,5 +104,60 @@ struct RigidBodyVelocities {
 /// gives non-finite velocities (a singular mass matrix, non-finite input).
 Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& motion, const ImplicitUpdateInput& input,
                                                      double dt);
+
+/// Whether a body is wholly out of the liquid, from its bounding sphere (centre in the world and
+/// radius, m) at `time` (s): above a flat plane exactly; above waves or a height grid with a margin
+/// of one radius, which covers surface slopes up to 1 within the sphere's footprint. A surface
+/// without a free surface (a uniform medium) holds every body. A cheap test before any texel.
+bool whollyAboveSurface(const LiquidSurface& surface, const Eigen::Vector3d& sphereCenter, double radius, double time);
+
+/// The translational added mass (kg): the liquid accelerated with the body, C_a rho V_submerged
+/// (C_a dimensionless, 0.5 for a sphere; rho in kg/m^3; V in m^3).
+double translationalAddedMass(double coefficient, double fluidDensity, double submergedVolume);
+
+/// When a floating body is at rest: balanced and slow.
+struct RestThresholds {
+  double forceFraction = 1.0e-3;  ///< |net force| <= this * m |g|, |net torque| <= this * m |g| * reference length
+  double linearSpeed = 0.02;      ///< m/s, speed relative to the liquid at the centre of mass
+  double angularSpeed = 0.02;     ///< rad/s
+};
+
+/// Everything one rigid body's step needs beside its motion (world frame, SI units).
+struct RigidBodyStepInput {
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
+  /// The body's hydrostatics this step (a backend's answer or the exact path's); null when it
+  /// has none (buoyancy and added mass not listed, no weight, or a failed query).
+  const HydrostaticsResult* hydrostatics = nullptr;
+  bool buoyancy = true;                               ///< apply the hydrostatics' force, torque and stiffness
+  /// C_a of the added mass (translationalAddedMass); nullopt: the effect is not listed.
+  std::optional<double> addedMassCoefficient;
+  const DragBody* drag = nullptr;                     ///< null: drag not listed (no pass over the patches)
+  DragLiquid liquid;                                  ///< the liquid drag and the rest rule see
+  double referenceLength = 1.0;                       ///< m, scales the rest rule's torque
+  RestThresholds rest;                                ///< when the body counts as at rest
+};
+
+/// One rigid body's step.
+struct RigidBodyStepResult {
+  RigidBodyVelocities velocities;                     ///< after the step
+  DragLoads drag;                                     ///< zero without drag (liquidVelocityAtCenter = the current)
+  double addedMass = 0.0;                             ///< kg, 0 without the effect
+  bool atRest = false;                                ///< balanced and slow at the start of the step (RestThresholds)
+};
+
+/// One rigid body's step of `dt` seconds in the liquid, whole: drag over its patches, added mass,
+/// the implicit velocity update, and the rest rule (net force and torque of weight, buoyancy and
+/// drag against RestThresholds, with the velocities at the start of the step). Pure; errors as
+/// implicitVelocityUpdate's.
+Expected<RigidBodyStepResult> stepRigidBody(const RigidBodyMotion& motion, const RigidBodyStepInput& input, double dt);
+
+/// The velocity change (m/s) of a flooding body whose mass went from `massBefore` to `massAfter`
+/// (kg) while `inflow` and `outflow` (m^3) of liquid of `density` (kg/m^3) crossed its hull, when
+/// the adapter kept the momentum m v at `velocity` (liquid entering at rest): liquid enters with
+/// the liquid's velocity `liquidVelocity` and leaves with the body's, so P' = m v + rho (V_in
+/// u_liquid - V_out v). Zero when the mass did not change or is not positive.
+Eigen::Vector3d floodingVelocityCorrection(const Eigen::Vector3d& velocity, const Eigen::Vector3d& liquidVelocity,
+                                           double massBefore, double massAfter, double density, double inflow,
+                                           double outflow);
 
 }  // namespace hydrotex
