@@ -18,6 +18,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/hydrostatics/TexelPressure.hpp"
 
 namespace hydrotex::bullet {
 
@@ -37,20 +38,6 @@ Status SoftBodySettings::validate() const {
 namespace {
 
 Eigen::Vector3d toEigen(const btVector3& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
-
-// Mean of max(0, d) and the wet fraction over a texel whose depth is d0 at its centre and spreads
-// uniformly over [d0 - s, d0 + s] (s: half its vertical span). Exact for a texel tilted along one
-// of its edges; continuous in d0, so a body crossing the surface sees no jump.
-struct WetPart {
-  double meanDepth;  // m
-  double fraction;   // 0..1
-};
-WetPart wetPart(double d0, double s) {
-  if (!(s > 0.0)) return d0 > 0.0 ? WetPart{d0, 1.0} : WetPart{0.0, 0.0};
-  if (d0 >= s) return {d0, 1.0};
-  if (d0 <= -s) return {0.0, 0.0};
-  return {(d0 + s) * (d0 + s) / (4.0 * s), (d0 + s) / (2.0 * s)};
-}
 
 }  // namespace
 
@@ -92,7 +79,7 @@ Expected<SoftBodyBuoyancy> SoftBodyBuoyancy::create(btSoftBody* body, const Soft
   out.textures_ = std::move(geometry->textures);
   out.texelPressure_.assign(out.textures_.size(), 0.0f);
   out.texelWetFraction_.assign(out.textures_.size(), 0.0f);
-  out.nodeForce_.assign(std::size_t(nodeCount), btVector3(0, 0, 0));
+  out.nodeForce_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
   if (settings.effects.has(Effect::Drag)) {
     out.nodeDrag_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
     out.nodeRelative_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
@@ -124,52 +111,26 @@ Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time, double
     faceAreaVector_[t] = 0.5 * (mesh_.positions[std::size_t(tri[1])] - a).cross(mesh_.positions[std::size_t(tri[2])] - a);
   }
 
+  // Pressure per texel and its nodal forces: core's law (TexelPressure.hpp), the waterline rule
+  // the rigid texture path uses.
   const double gravity = double(body_->getWorldInfo()->m_gravity.length());
-  const double rhoG = surface.density() * gravity;
-  const std::optional<double> flat = surface.flatHeight();
-  const bool free = surface.hasFreeSurface();
   const bool buoyancy = settings_.effects.has(Effect::Buoyancy);
   report.pressureApplied = buoyancy;
-  for (btVector3& f : nodeForce_) f.setZero();
-  for (std::size_t i = 0; i < textures_.size(); ++i) {
-    const Eigen::Vector3d x = textures_.position[i].cast<double>();
-    const float area = textures_.area[i];
-    report.enclosedVolume += x.dot(textures_.areaVector[i].cast<double>()) / 3.0;
-    double pressure = 0.0;
-    if (free) {
-      const double height = flat ? *flat : surface.surfaceHeight(x.x(), x.z(), time);
-      const double halfSpan = 0.5 * (std::abs(double(textures_.edgeU[i].y())) + std::abs(double(textures_.edgeV[i].y())));
-      const WetPart wet = wetPart(height - x.y(), halfSpan);
-      pressure = rhoG * wet.meanDepth;
-      report.wettedArea += wet.fraction * double(area);
-      report.submergedVolume -= wet.meanDepth * double(textures_.areaVector[i].y());
-      texelWetFraction_[i] = float(wet.fraction);
-    } else {
-      pressure = buoyancy ? surface.pressure(x, time, gravity) : 0.0;
-      report.wettedArea += double(area);
-      texelWetFraction_[i] = 1.0f;
-    }
-    texelPressure_[i] = float(pressure);
-    if (!buoyancy || !(pressure != 0.0) || !std::isfinite(pressure)) continue;  // not listed, dry, or a surface that answered NaN
-    for (std::uint32_t k = bake_.pieceStart[i]; k < bake_.pieceStart[i + 1]; ++k) {
-      const TexelPiece& piece = bake_.pieces[k];
-      const Eigen::Vector3i& tri = mesh_.triangles[piece.triangle];
-      const Eigen::Vector3d force = -pressure * double(piece.areaFraction) * faceAreaVector_[piece.triangle];
-      const double b1 = piece.centroidBary1, b2 = piece.centroidBary2;
-      const double weight[3] = {1.0 - b1 - b2, b1, b2};
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::Vector3d share = weight[c] * force;
-        nodeForce_[std::size_t(tri[c])] += btVector3(btScalar(share.x()), btScalar(share.y()), btScalar(share.z()));
-      }
-    }
+  const TexelPressureSums sums = texelPressures(textures_, surface, time, gravity, texelPressure_, texelWetFraction_);
+  report.enclosedVolume = sums.enclosedVolume;
+  report.submergedVolume = sums.submergedVolume;
+  report.wettedArea = sums.wettedArea;
+  if (buoyancy) {
+    texelPressureVertexForces(bake_, mesh_, faceAreaVector_, texelPressure_, nodeForce_);
+  } else {
+    for (Eigen::Vector3d& f : nodeForce_) f.setZero();
   }
-  if (!free) report.submergedVolume = report.enclosedVolume;
   if (settings_.effects.has(Effect::Drag)) applyDrag(surface, time, dt, liquid, report);
   // What btSoftBody::predictMotion does with a node force (semi-implicit Euler), done here
   // because Bullet clears m_f before its next predictMotion (see the header).
   const btScalar step = btScalar(dt);
   for (std::size_t n = 0; n < nodeCount; ++n) {
-    const btVector3& f = nodeForce_[n];
+    const btVector3 f(btScalar(nodeForce_[n].x()), btScalar(nodeForce_[n].y()), btScalar(nodeForce_[n].z()));
     btSoftBody::Node& node = body_->m_nodes[int(n)];
     if (f.isZero() || node.m_im <= 0) continue;
     const btVector3 deltaV = f * (node.m_im * step);

@@ -96,7 +96,7 @@ class SoftBodyBuoyancy {
   /// Gives the soft body's nodes the pressure forces of `surface` at `time` (s) for one sub-step
   /// of `dt` seconds (see the file comment): per texel, for a free surface p = rho g (mean depth
   /// of the wet part of the texel, depth from the local surface height above the texel's centre,
-  /// taken uniform over the texel's vertical span), otherwise the medium's pressure at the
+  /// the texel a parallelogram cut by a level surface: core's texelPressures), otherwise the medium's pressure at the
   /// texel. g is the length of the soft body's world gravity (m/s^2, along -y as everywhere in
   /// hydrotex). With Effect::Drag, the drag of `liquid` (see the file comment). Nodes of zero
   /// inverse mass (pinned) take nothing. Error (nothing applied) when dt is not positive, the
@@ -124,7 +124,7 @@ class SoftBodyBuoyancy {
   SurfaceTextures textures_;            // PT/VAT of the current nodes (world frame)
   std::vector<float> texelWetFraction_; // 0..1, per covered texel, this step
   std::vector<float> texelPressure_;    // Pa, per covered texel, this step
-  std::vector<btVector3> nodeForce_;    // N, per node, this step
+  std::vector<Eigen::Vector3d> nodeForce_;  // N, per node, this step (pressure)
   std::vector<Eigen::Vector3d> nodeDrag_;  // N, per node, this step (Effect::Drag)
   std::vector<Eigen::Vector3d> nodeRelative_;       // m/s, node velocity relative to the liquid (Effect::Drag)
   std::vector<Eigen::Vector3d> deformationChange_;  // m/s, drag's change of the node's deformation velocity
