@@ -16,7 +16,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 what=${1:-all}
-excluded='^(package_.*|demo_.*)$'
+# The plugin suites' GL reruns (plugin_test_*_gl) run the same executables as their CPU runs,
+# which are here, with the GL backend that tests/gpu and tests/backends check here: rerunning
+# them under ASan on llvmpipe would add minutes to CI and no code.
+excluded='^(package_.*|demo_.*|plugin_test_.*_gl)$'
 
 if [ "$what" = build ] || [ "$what" = all ]; then
   launcher=()

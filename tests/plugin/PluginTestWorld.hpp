@@ -4,21 +4,46 @@
 // added with full FloatingBodySettings so that each test can pick effects and coefficients.
 
 #include <btBulletDynamicsCommon.h>
+#include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
+#if defined(HYDROTEX_TEST_HAS_GPU)
+#include "hydrotex/gpu/MakeBackend.hpp"
+#endif
 
 namespace hydrotex::bullet::testing {
+
+/// The controller settings a test world gets unless a test names its own: the controller's own
+/// CPU backend, or the backend HYDROTEX_TEST_BACKEND names ("gpu": the GL compute backend, for a
+/// suite built with it), so that CTest runs the same test bodies on every backend (issue 18).
+inline ControllerSettings testControllerSettings() {
+  ControllerSettings settings;
+  const char* named = std::getenv("HYDROTEX_TEST_BACKEND");
+  const std::string backend = named != nullptr ? named : "cpu";
+  if (backend == "cpu") return settings;
+#if defined(HYDROTEX_TEST_HAS_GPU)
+  Expected<std::unique_ptr<ComputeBackend>> made = gpu::makeBackend(backend);
+  INFO("HYDROTEX_TEST_BACKEND=" << backend << ": " << (made ? std::string() : made.error().message));
+  REQUIRE(made);  // a named backend that cannot open fails the suite rather than passing it on the CPU
+  settings.backend = std::move(made).value();
+#else
+  FAIL("HYDROTEX_TEST_BACKEND=" << backend << ", but this suite was built without the GL backend");
+#endif
+  return settings;
+}
 
 /// World + controller; bodies are removed and destroyed in the right order.
 class TestWorld {
  public:
   explicit TestWorld(std::shared_ptr<const LiquidSurface> surface = std::make_shared<FlatSurface>(0.0, 1000.0),
-                     double viscosity = 1.0e-3, ControllerSettings settings = {})
+                     double viscosity = 1.0e-3, ControllerSettings settings = testControllerSettings())
       : dispatcher_(&configuration_), world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
     world_.setGravity(btVector3(0, btScalar(-9.81), 0));
     LiquidSettings liquid;
