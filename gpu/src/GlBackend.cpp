@@ -22,6 +22,7 @@
 
 #include "GlObjects.hpp"
 #include "hydrotex/gpu/EmbeddedShaders.hpp"
+#include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/ShaderLayouts.hpp"
 
 namespace hydrotex::gpu {
@@ -97,6 +98,29 @@ void dispatchGroups(std::uint32_t groups) {
   glDispatchCompute(x, (groups + x - 1) / x, 1);
 }
 
+// A body's liquid texture on the GPU (GlWetting) behind the backend's door: the liquid is
+// uploaded at the first step and stays resident; each step copies it back into the texture, which
+// the controller hands out (rendering, reports).
+class GlBackendWetting final : public BackendWetting {
+ public:
+  explicit GlBackendWetting(std::unique_ptr<GlWetting> wetting) : wetting_(std::move(wetting)) {}
+  Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) override {
+    if (!uploaded_) {
+      if (Status s = wetting_->upload(texture); !s) return s.error();
+      uploaded_ = true;
+    }
+    Expected<WettingStepReport> report = wetting_->step(environment, dt);
+    if (!report) return report;
+    if (Status s = wetting_->download(texture); !s) return s.error();
+    return report;
+  }
+  bool threadSafe() const override { return false; }  // the GL context is driven from one thread
+
+ private:
+  std::unique_ptr<GlWetting> wetting_;
+  bool uploaded_ = false;
+};
+
 class GlBackend final : public ComputeBackend {
  public:
   GlBackend(std::unique_ptr<EglContext> context, bool finalOnGpu, std::size_t segmentBytes)
@@ -160,6 +184,13 @@ class GlBackend final : public ComputeBackend {
   }
 
   std::string name() const override { return "gpu"; }
+
+  Expected<std::unique_ptr<BackendWetting>> makeWetting(TexelAdjacency adjacency, const SurfaceTextures& textures,
+                                                        const WettingSettings& settings) override {
+    Expected<std::unique_ptr<GlWetting>> wetting = GlWetting::create(*context_, adjacency, textures, settings);
+    if (!wetting) return Error{"gpu wetting: " + wetting.error().message};
+    return std::unique_ptr<BackendWetting>(std::make_unique<GlBackendWetting>(std::move(wetting).value()));
+  }
   std::string renderer() const override { return context_->renderer(); }
   std::size_t bodyCount() const override { return bodies_.size(); }
 

@@ -159,14 +159,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (find(body) != nullptr) return Error{"body: already registered"};
   if (body->getCollisionShape() == nullptr) return Error{"body: has no collision shape"};
   if (Status s = settings.validate(); !s) return s;
-  if (backend_->name() != "cpu") {
-    // Their texel passes exist on the CPU only for now (the GL wetting runs standalone, GlWetting).
-    for (Effect effect : {Effect::Flooding, Effect::Wetting}) {
-      if (settings.effects.has(effect)) {
-        return Error{"effects: '" + std::string(effectName(effect)) + "' is not served by the " + backend_->name() +
-                     " backend yet; use the cpu backend for this body's controller"};
-      }
-    }
+  if (backend_->name() != "cpu" && settings.effects.has(Effect::Flooding)) {
+    // The liquid graph's permeable-texel pass exists on the CPU only for now.
+    return Error{"effects: 'flooding' is not served by the " + backend_->name() +
+                 " backend yet; use the cpu backend for this body's controller"};
   }
 
   auto floating = std::make_unique<FloatingBody>();
@@ -345,7 +341,9 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     if (!geometry) return Error{"wetting: " + geometry.error().message};
     Expected<TexelAdjacency> graph = buildTexelAdjacency(geometry->bake, geometry->mesh, geometry->atlas.layout);
     if (!graph) return Error{"wetting: " + graph.error().message};
-    Expected<Wetting> solver = Wetting::create(std::move(graph).value(), geometry->textures, wetting.physics);
+    // On the controller's backend: core's Wetting on the CPU, the GL compute one on the GPU.
+    Expected<std::unique_ptr<BackendWetting>> solver =
+        backend_->makeWetting(std::move(graph).value(), geometry->textures, wetting.physics);
     if (!solver) return Error{"wetting.physics: " + solver.error().message};
     Expected<LiquidTexture> texture = makeLiquidTexture(geometry->textures.size(), wetting.material);
     if (!texture) return Error{"wetting.material: " + texture.error().message};
@@ -536,7 +534,7 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   for (const auto& floating : bodies_) readBody(*floating, dt);
   // Plan (serial, cheap): what each body needs this step; the texture queries form one batch.
   queries_.clear();
-  for (const auto& floating : bodies_) planBody(*floating);
+  for (const auto& floating : bodies_) planBody(*floating, dt);
   // The backend (serial: the GL one owns a context on this thread): one batch, read back once.
   askBackend();
   // Compute (parallel): each call reads its own body's record, its backend answer and the shared
@@ -612,8 +610,10 @@ void BuoyancyController::writeBody(FloatingBody& floating) {
   addCounters(statistics_, step.counters);
 }
 
-void BuoyancyController::planBody(FloatingBody& floating) {
+void BuoyancyController::planBody(FloatingBody& floating, double dt) {
   BodyStep& step = floating.step;
+  // A liquid texture whose backend owns a context (GL) is stepped here, on the driving thread.
+  if (floating.wetting && !floating.wetting->solver->threadSafe()) wet(floating, toPose(step.meshWorld), step.gravity, dt);
   const LiquidSurface& surface = *liquid_.surface;
   // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
   const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
@@ -674,7 +674,8 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   const EffectSet effects = settings.effects;
 
   // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
-  if (floating.wetting) wet(floating, toPose(step.meshWorld), step.gravity, dt);
+  // Here, in parallel, where the backend's wetting allows it (the CPU's); planBody otherwise.
+  if (floating.wetting && floating.wetting->solver->threadSafe()) wet(floating, toPose(step.meshWorld), step.gravity, dt);
 
   if (step.plan == BodyStep::Plan::Asleep) {
     ++counters.skippedAsleep;
@@ -794,7 +795,7 @@ void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const
   // Without downward gravity there is no hydrostatic head; a vanishing g drives no absorption.
   environment.gravity = -gravity.y() > 0.0 ? -gravity.y() : 1e-12;
   ++floating.step.counters.wettingSteps;
-  Expected<WettingStepReport> stepped = state.solver.step(state.texture, environment, dt);
+  Expected<WettingStepReport> stepped = state.solver->step(state.texture, environment, dt);
   if (!stepped) {
     ++floating.step.counters.failedQueries;
     return;

@@ -36,7 +36,7 @@ struct DeformationState {
 
 /// The liquid texture of a body (only for Effect::Wetting).
 struct WettingState {
-  Wetting solver;        ///< texel graph and cached solve
+  std::unique_ptr<BackendWetting> solver;  ///< texel graph and solve, on the controller's backend
   LiquidTexture texture; ///< liquid per texel (m)
   WettingEnvironment environment; ///< sources set at registration; pose, time and gravity per step
 };

@@ -17,11 +17,29 @@ namespace hydrotex {
 
 namespace {
 
+/// Core's Wetting behind the backend's door.
+class CpuWetting final : public BackendWetting {
+ public:
+  explicit CpuWetting(Wetting solver) : solver_(std::move(solver)) {}
+  Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) override {
+    return solver_.step(texture, environment, dt);
+  }
+  bool threadSafe() const override { return true; }
+
+ private:
+  Wetting solver_;
+};
+
 class CpuBackend final : public ComputeBackend {
  public:
   explicit CpuBackend(ParallelFor parallelFor) : parallelFor_(std::move(parallelFor)) {}
 
   std::string name() const override { return "cpu"; }
+
+  Expected<std::unique_ptr<BackendWetting>> makeWetting(TexelAdjacency adjacency, const SurfaceTextures& textures,
+                                                        const WettingSettings& settings) override {
+    return makeCpuWetting(std::move(adjacency), textures, settings);
+  }
   std::string renderer() const override { return "CPU"; }
 
   Expected<BackendBodyId> addBody(const SurfaceBake& bake, const SurfaceTextures& textures,
@@ -153,6 +171,13 @@ class CpuBackend final : public ComputeBackend {
 
 std::unique_ptr<ComputeBackend> makeCpuBackend(ParallelFor parallelFor) {
   return std::make_unique<CpuBackend>(std::move(parallelFor));
+}
+
+Expected<std::unique_ptr<BackendWetting>> makeCpuWetting(TexelAdjacency adjacency, const SurfaceTextures& textures,
+                                                         const WettingSettings& settings) {
+  Expected<Wetting> solver = Wetting::create(std::move(adjacency), textures, settings);
+  if (!solver) return solver.error();
+  return std::unique_ptr<BackendWetting>(std::make_unique<CpuWetting>(std::move(solver).value()));
 }
 
 }  // namespace hydrotex

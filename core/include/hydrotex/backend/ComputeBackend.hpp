@@ -18,6 +18,9 @@
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
+#include "hydrotex/bake/TexelAdjacency.hpp"
+#include "hydrotex/wetting/LiquidTexture.hpp"
+#include "hydrotex/wetting/Wetting.hpp"
 
 namespace hydrotex {
 
@@ -28,6 +31,19 @@ using BackendBodyId = std::uint32_t;
 struct BackendHydrostaticsQuery {
   BackendBodyId body = 0;        ///< as returned by ComputeBackend::addBody
   HydrostaticsQuery query;       ///< pose, gravity, centre of mass, time, mass
+};
+
+/// One body's liquid texture stepped by a backend (ComputeBackend::makeWetting): core's Wetting
+/// on the CPU, the GL compute one (GlWetting) on the GPU, with the same equations.
+class BackendWetting {
+ public:
+  virtual ~BackendWetting() = default;
+  /// One step of `dt` seconds, as Wetting::step; `texture` holds the liquid after it (a GPU keeps
+  /// the liquid resident and copies it back). Errors leave `texture` as it was.
+  virtual Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) = 0;
+  /// Whether step() may run on any thread, beside other bodies' steps (the CPU's); false for a
+  /// backend that must be driven from the thread that owns its context (the GL one).
+  virtual bool threadSafe() const = 0;
 };
 
 /// A compute backend: holds the baked texels of many bodies and answers batched per-step passes.
@@ -82,7 +98,18 @@ class ComputeBackend {
   /// or with negative or non-finite densities, negative or non-finite densities.
   virtual Status massProperties(std::span<const BackendBodyId> bodies, std::span<const TextureMassModel> models,
                                 std::span<MassProperties> results) = 0;
+
+  /// A liquid texture solver for one body on this backend, from the texel graph and the surface
+  /// textures of its wetting bake (buildTexelAdjacency, evaluateSurface) and `settings`. Errors:
+  /// those of Wetting::create (bad settings, sizes that do not match), and the backend's own.
+  virtual Expected<std::unique_ptr<BackendWetting>> makeWetting(TexelAdjacency adjacency,
+                                                                const SurfaceTextures& textures,
+                                                                const WettingSettings& settings) = 0;
 };
+
+/// Core's Wetting as a BackendWetting (thread-safe): the CPU backend's makeWetting.
+Expected<std::unique_ptr<BackendWetting>> makeCpuWetting(TexelAdjacency adjacency, const SurfaceTextures& textures,
+                                                         const WettingSettings& settings);
 
 /// Runs work(i) once for every i in [0, count), on as many threads as it likes, and returns when
 /// all calls have returned (a controller hands the CPU backend its own threads this way).

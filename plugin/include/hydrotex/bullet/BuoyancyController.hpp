@@ -62,8 +62,9 @@ struct ControllerSettings {
   /// its own CPU backend on its threads. Pass hydrotex::gpu::makeGlBackend() (or
   /// gpu::makeBackend("auto")) for the GL compute backend; `plugin/` itself links no GL. Drag,
   /// added mass, the exact path, the mass model and deformation's surface evaluation run on the
-  /// controller's CPU threads with either backend; flooding and wetting need the CPU backend
-  /// (addBody refuses them, naming the effect, with another one).
+  /// controller's CPU threads with either backend; wetting runs on the backend (makeWetting: the
+  /// GL one steps the liquid texture on the GPU); flooding needs the CPU backend (addBody refuses
+  /// it, naming the effect, with another one).
   std::shared_ptr<ComputeBackend> backend;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
@@ -214,7 +215,7 @@ class BuoyancyController : public btActionInterface {
  private:
   FloatingBody* find(const btRigidBody* body) const;
   void readBody(FloatingBody& floating, double dt);
-  void planBody(FloatingBody& floating);
+  void planBody(FloatingBody& floating, double dt);
   void askBackend();
   void computeBody(FloatingBody& floating, double dt) const;
   void writeBody(FloatingBody& floating);
