@@ -22,6 +22,7 @@
 
 #include "GlObjects.hpp"
 #include "hydrotex/gpu/EmbeddedShaders.hpp"
+#include "hydrotex/gpu/GlFloodingPass.hpp"
 #include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/ShaderLayouts.hpp"
 
@@ -190,6 +191,10 @@ class GlBackend final : public ComputeBackend {
     Expected<std::unique_ptr<GlWetting>> wetting = GlWetting::create(*context_, adjacency, textures, settings);
     if (!wetting) return Error{"gpu wetting: " + wetting.error().message};
     return std::unique_ptr<BackendWetting>(std::make_unique<GlBackendWetting>(std::move(wetting).value()));
+  }
+
+  Expected<std::unique_ptr<FloodingTexelPass>> makeFloodingPass(const LiquidGraph& graph) override {
+    return makeGlFloodingPass(*context_, graph);
   }
   std::string renderer() const override { return context_->renderer(); }
   std::size_t bodyCount() const override { return bodies_.size(); }

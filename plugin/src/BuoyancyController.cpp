@@ -159,11 +159,6 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (find(body) != nullptr) return Error{"body: already registered"};
   if (body->getCollisionShape() == nullptr) return Error{"body: has no collision shape"};
   if (Status s = settings.validate(); !s) return s;
-  if (backend_->name() != "cpu" && settings.effects.has(Effect::Flooding)) {
-    // The liquid graph's permeable-texel pass exists on the CPU only for now.
-    return Error{"effects: 'flooding' is not served by the " + backend_->name() +
-                 " backend yet; use the cpu backend for this body's controller"};
-  }
 
   auto floating = std::make_unique<FloatingBody>();
   floating->body = body;
@@ -305,7 +300,11 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                 : buildAutomaticLiquidGraph(geometry->mesh, geometry->textures, permeability, floodingSettings.nodeCount,
                                             floodingSettings.graph);
         if (!graph) return Error{"flooding: " + graph.error().message};
-        auto state = std::make_unique<FloodingState>(FloodingState{std::move(graph).value(), {}, {}, {}});
+        auto state = std::make_unique<FloodingState>(FloodingState{std::move(graph).value(), {}, {}, {}, {}});
+        // The permeable-texel pass on the controller's backend (the GL one on the GPU).
+        Expected<std::unique_ptr<FloodingTexelPass>> texelPass = backend_->makeFloodingPass(state->graph);
+        if (!texelPass) return Error{"flooding: " + texelPass.error().message};
+        state->texelPass = std::move(texelPass).value();
         for (const LiquidGraphNode& node : state->graph.nodes()) {
           PointMass liquid;
           liquid.position = node.position;
@@ -842,7 +841,7 @@ void BuoyancyController::flood(FloatingBody& floating, double dt) {
   query.viscosity = liquid_.viscosity;
   FloodingStepResult stepped;
   if (query.gravity > 0.0 && query.viscosity > 0.0) {  // no weight or no viscosity: Darcy has nothing to say
-    Expected<FloodingStepResult> result = state.graph.step(surface, query);
+    Expected<FloodingStepResult> result = state.graph.step(surface, query, state.texelPass.get());
     if (!result) {
       ++statistics_.failedQueries;
     } else {

@@ -47,6 +47,7 @@ struct FloodingState {
   std::vector<std::size_t> pointMasses;   ///< per node: its liquid's point mass in FloatingBody::massModel
   std::vector<double> appliedMass;        ///< per node: kg last handed to the mass model
   std::vector<Eigen::Vector3d> appliedCentroid;  ///< per node: m, mesh frame, last handed to the mass model
+  std::unique_ptr<FloodingTexelPass> texelPass;  ///< the backend's pass over the permeable texels (null: the graph's own)
 };
 
 /// What bodies of one mesh and the same bake and drag settings share, read-only (MuJoCo's

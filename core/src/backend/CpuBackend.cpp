@@ -40,6 +40,10 @@ class CpuBackend final : public ComputeBackend {
                                                         const WettingSettings& settings) override {
     return makeCpuWetting(std::move(adjacency), textures, settings);
   }
+
+  Expected<std::unique_ptr<FloodingTexelPass>> makeFloodingPass(const LiquidGraph&) override {
+    return std::unique_ptr<FloodingTexelPass>();  // the graph's own loop
+  }
   std::string renderer() const override { return "CPU"; }
 
   Expected<BackendBodyId> addBody(const SurfaceBake& bake, const SurfaceTextures& textures,

@@ -252,7 +252,53 @@ void LiquidGraph::updateLiquidCentroids(const Pose& pose) {
   refreshLevelsAndCentroids(up, pose.translation.y(), width);
 }
 
-Expected<FloodingStepResult> LiquidGraph::step(const LiquidSurface& surface, const FloodingQuery& query) {
+FloodingNodeSums LiquidGraph::flatNodeSums(std::size_t node, const FloodingTexelLevels& levels) const {
+  // Float, in eight independent lanes so that the compiler can vectorize the pass (a GPU's pass,
+  // FloodingTexelPass, makes the same float sums in its own order).
+  const std::uint32_t begin = texelStart_[node], end = texelStart_[node + 1];
+  const float ux = levels.up.x(), uy = levels.up.y(), uz = levels.up.z();
+  const float outsideLevel = levels.outsideLevel, insideLevel = levels.insideLevel[node], wetLevel = levels.wetLevel[node];
+  constexpr int kLanes = 8;
+  float laneQ[kLanes] = {}, lanePushed[kLanes] = {}, laneAll[kLanes] = {}, laneIn[kLanes] = {}, laneEither[kLanes] = {};
+  std::uint32_t t = begin;
+  for (; t + kLanes <= end; t += kLanes) {
+    for (int l = 0; l < kLanes; ++l) {
+      const std::uint32_t k = t + std::uint32_t(l);
+      const float y = ux * texelX_[k] + uy * texelY_[k] + uz * texelZ_[k];
+      const float outsideHead = std::max(outsideLevel - y, 0.0f);
+      const float insideHead = std::max(insideLevel - y, 0.0f);
+      const float c = texelT_[k];
+      laneQ[l] += c * (outsideHead - insideHead);
+      lanePushed[l] += c * outsideHead;
+      laneAll[l] += c;
+      laneIn[l] += y <= wetLevel ? c : 0.0f;
+      laneEither[l] += (y <= wetLevel || outsideHead > 0.0f) ? c : 0.0f;
+    }
+  }
+  FloodingNodeSums sums;
+  for (int l = 0; l < kLanes; ++l) {
+    sums.netHead += double(laneQ[l]);
+    sums.pushedHead += double(lanePushed[l]);
+    sums.all += double(laneAll[l]);
+    sums.inside += double(laneIn[l]);
+    sums.either += double(laneEither[l]);
+  }
+  for (; t < end; ++t) {
+    const double y = double(ux * texelX_[t] + uy * texelY_[t] + uz * texelZ_[t]);
+    const double outsideHead = std::max(double(outsideLevel) - y, 0.0);
+    const double insideHead = std::max(double(insideLevel) - y, 0.0);
+    const double c = double(texelT_[t]);
+    sums.netHead += c * (outsideHead - insideHead);
+    sums.pushedHead += c * outsideHead;
+    sums.all += c;
+    if (y <= double(wetLevel)) sums.inside += c;
+    if (y <= double(wetLevel) || outsideHead > 0.0) sums.either += c;
+  }
+  return sums;
+}
+
+Expected<FloodingStepResult> LiquidGraph::step(const LiquidSurface& surface, const FloodingQuery& query,
+                                               FloodingTexelPass* pass) {
   if (!query.pose.isFinite()) return Error{"flooding: pose is not finite"};
   if (!(std::isfinite(query.timeStep) && query.timeStep > 0.0)) return Error{"flooding: timeStep must be > 0"};
   if (!(std::isfinite(query.gravity) && query.gravity > 0.0)) return Error{"flooding: gravity must be > 0"};
@@ -299,68 +345,52 @@ Expected<FloodingStepResult> LiquidGraph::step(const LiquidSurface& surface, con
   // h = h0, and its slopes: -dQ/dh over the texels wet inside (a free level) or wet on either
   // side (a pressurized node, whose head may pass the texels).
   const std::optional<double> flat = surface.flatHeight();
-  const float ux = float(up.x()), uy = float(up.y()), uz = float(up.z());
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t begin = texelStart_[i], end = texelStart_[i + 1];
-    double q = 0.0, pushed = 0.0, all = 0.0, inside = 0.0, either = 0.0;
-    result.texelsVisited += end - begin;
-    if (flat) {
-      // A texel that the level reaches within a thousandth of a cell counts as wet inside (an
-      // empty node's level sits exactly on its floor's texels, up to float rounding).
-      const float outsideLevel = float(*flat - ty), insideLevel = float(h0_[i] - ty);
-      const float wetLevel = insideLevel + float(1e-3 * width);
-      constexpr int kLanes = 8;  // independent sums, so that the compiler can vectorize the pass
-      float laneQ[kLanes] = {}, lanePushed[kLanes] = {}, laneAll[kLanes] = {}, laneIn[kLanes] = {}, laneEither[kLanes] = {};
-      std::uint32_t t = begin;
-      for (; t + kLanes <= end; t += kLanes) {
-        for (int l = 0; l < kLanes; ++l) {
-          const std::uint32_t k = t + std::uint32_t(l);
-          const float y = ux * texelX_[k] + uy * texelY_[k] + uz * texelZ_[k];
-          const float outsideHead = std::max(outsideLevel - y, 0.0f);
-          const float insideHead = std::max(insideLevel - y, 0.0f);
-          const float c = texelT_[k];
-          laneQ[l] += c * (outsideHead - insideHead);
-          lanePushed[l] += c * outsideHead;
-          laneAll[l] += c;
-          laneIn[l] += y <= wetLevel ? c : 0.0f;
-          laneEither[l] += (y <= wetLevel || outsideHead > 0.0f) ? c : 0.0f;
-        }
-      }
-      for (int l = 0; l < kLanes; ++l) {
-        q += double(laneQ[l]);
-        pushed += double(lanePushed[l]);
-        all += double(laneAll[l]);
-        inside += double(laneIn[l]);
-        either += double(laneEither[l]);
-      }
-      for (; t < end; ++t) {
-        const double y = double(ux * texelX_[t] + uy * texelY_[t] + uz * texelZ_[t]);
-        const double outsideHead = std::max(double(outsideLevel) - y, 0.0);
-        const double insideHead = std::max(double(insideLevel) - y, 0.0);
-        q += double(texelT_[t]) * (outsideHead - insideHead);
-        pushed += double(texelT_[t]) * outsideHead;
-        all += double(texelT_[t]);
-        if (y <= double(wetLevel)) inside += double(texelT_[t]);
-        if (y <= double(wetLevel) || outsideHead > 0.0) either += double(texelT_[t]);
-      }
+  passSums_.resize(n);
+  if (flat) {
+    // A texel that the level reaches within a thousandth of a cell counts as wet inside (an
+    // empty node's level sits exactly on its floor's texels, up to float rounding).
+    passInside_.resize(n);
+    passWet_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      passInside_[i] = float(h0_[i] - ty);
+      passWet_[i] = passInside_[i] + float(1e-3 * width);
+    }
+    FloodingTexelLevels levels;
+    levels.up = up.cast<float>();
+    levels.outsideLevel = float(*flat - ty);
+    levels.insideLevel = passInside_;
+    levels.wetLevel = passWet_;
+    if (pass != nullptr) {
+      if (Status s = pass->sums(levels, passSums_); !s) return Error{"flooding: " + s.error().message};
     } else {
-      for (std::uint32_t t = begin; t < end; ++t) {
+      for (std::size_t i = 0; i < n; ++i) passSums_[i] = flatNodeSums(i, levels);
+    }
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      FloodingNodeSums& sums = passSums_[i];
+      sums = FloodingNodeSums{};
+      for (std::uint32_t t = texelStart_[i]; t < texelStart_[i + 1]; ++t) {
         const Eigen::Vector3d world = query.pose.apply(Eigen::Vector3d(texelX_[t], texelY_[t], texelZ_[t]));
         const double outsideHead = surface.pressure(world, query.time, query.gravity) / rhoG;
         const double insideHead = std::max(h0_[i] - world.y(), 0.0);
-        q += double(texelT_[t]) * (outsideHead - insideHead);
-        pushed += double(texelT_[t]) * outsideHead;
-        all += double(texelT_[t]);
+        const double c = double(texelT_[t]);
+        sums.netHead += c * (outsideHead - insideHead);
+        sums.pushedHead += c * outsideHead;
+        sums.all += c;
         const bool wet = world.y() <= h0_[i] + 1e-3 * width;
-        if (wet) inside += double(texelT_[t]);
-        if (wet || outsideHead > 0.0) either += double(texelT_[t]);
+        if (wet) sums.inside += c;
+        if (wet || outsideHead > 0.0) sums.either += c;
       }
     }
-    q0_[i] = q * conductancePerT;
-    pushedIn_[i] = pushed * conductancePerT;
-    slopeAll_[i] = all * conductancePerT;
-    slopeInside_[i] = inside * conductancePerT;
-    slopeOutside_[i] = either * conductancePerT;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const FloodingNodeSums& sums = passSums_[i];
+    result.texelsVisited += texelStart_[i + 1] - texelStart_[i];
+    q0_[i] = sums.netHead * conductancePerT;
+    pushedIn_[i] = sums.pushedHead * conductancePerT;
+    slopeAll_[i] = sums.all * conductancePerT;
+    slopeInside_[i] = sums.inside * conductancePerT;
+    slopeOutside_[i] = sums.either * conductancePerT;
   }
 
   // Implicit level solve with an active set (each node free, full, empty or a junction):

@@ -19,6 +19,7 @@
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/bake/TexelAdjacency.hpp"
+#include "hydrotex/flooding/LiquidGraph.hpp"
 #include "hydrotex/wetting/LiquidTexture.hpp"
 #include "hydrotex/wetting/Wetting.hpp"
 
@@ -105,6 +106,11 @@ class ComputeBackend {
   virtual Expected<std::unique_ptr<BackendWetting>> makeWetting(TexelAdjacency adjacency,
                                                                 const SurfaceTextures& textures,
                                                                 const WettingSettings& settings) = 0;
+
+  /// The pass over `graph`'s permeable texels a flooding body's steps hand to LiquidGraph::step on
+  /// this backend: null for the CPU (the graph's own vectorized loop), the GL compute one on the
+  /// GPU (under a flat surface; the graph's loop under others). `graph`'s texels are copied.
+  virtual Expected<std::unique_ptr<FloodingTexelPass>> makeFloodingPass(const LiquidGraph& graph) = 0;
 };
 
 /// Core's Wetting as a BackendWetting (thread-safe): the CPU backend's makeWetting.

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
@@ -83,6 +84,37 @@ struct FloodingStepResult {
   std::size_t texelsVisited = 0;  ///< permeable texels evaluated
 };
 
+/// One node's sums over its permeable texels in a step (Darcy through the surface): the pass
+/// LiquidGraph::step makes over the texels, whoever makes it. T is a texel's transmissibility
+/// (m^3), heads are heights of liquid (m) above the texel, outside (the surface's) and inside
+/// (the node's level).
+struct FloodingNodeSums {
+  double netHead = 0.0;     ///< Sum T (outside head - inside head) (m^4)
+  double pushedHead = 0.0;  ///< Sum T outside head (m^4)
+  double all = 0.0;         ///< Sum T (m^3)
+  double inside = 0.0;      ///< Sum T over the texels the node's liquid reaches (m^3)
+  double either = 0.0;      ///< Sum T over the texels wet inside or outside (m^3)
+};
+
+/// The levels a pass over the permeable texels needs under a flat surface, as heights along `up`
+/// in the body frame measured from the body origin (a texel at p is at height up . p).
+struct FloodingTexelLevels {
+  Eigen::Vector3f up = Eigen::Vector3f::UnitY();  ///< the world's up in the body frame
+  float outsideLevel = 0.0f;                      ///< m, the surface
+  std::span<const float> insideLevel;             ///< m, per node: its liquid's level
+  std::span<const float> wetLevel;                ///< m, per node: texels at or below it count as wet inside
+};
+
+/// The per-node texel sums of a step under a flat surface, made elsewhere than LiquidGraph's own
+/// loop (a GPU: ComputeBackend::makeFloodingPass), in float as that loop, for the texels of the
+/// graph it was made for (LiquidGraph::permeableTexels, grouped by node).
+class FloodingTexelPass {
+ public:
+  virtual ~FloodingTexelPass() = default;
+  /// One FloodingNodeSums per node into `sums`. Errors leave `sums` undefined (the step fails).
+  virtual Status sums(const FloodingTexelLevels& levels, std::span<FloodingNodeSums> sums) = 0;
+};
+
 /// A body's liquid graph and the liquid in it. Not thread-safe; one per body.
 class LiquidGraph {
  public:
@@ -99,7 +131,10 @@ class LiquidGraph {
   /// node within 0..capacity; the volume that crossed the surface is, to float rounding, the
   /// change of the held liquid. A surface without a free surface (a gas) moves nothing. Errors:
   /// a non-finite pose, a non-positive time step, gravity or viscosity.
-  Expected<FloodingStepResult> step(const LiquidSurface& surface, const FloodingQuery& query);
+  /// `pass`, when given, makes the texel sums under a flat surface (a GPU); under any other
+  /// surface, and without it, the graph's own loop makes them.
+  Expected<FloodingStepResult> step(const LiquidSurface& surface, const FloodingQuery& query,
+                                    FloodingTexelPass* pass = nullptr);
 
   /// Nodes (positions, capacities and the liquid they hold).
   const std::vector<LiquidGraphNode>& nodes() const { return nodes_; }
@@ -131,6 +166,7 @@ class LiquidGraph {
     double area = 0.0;    // m^2, free-surface area: capacity per unit height at that level
   };
   void sortSpace(std::size_t node, const Eigen::Vector3d& up);
+  FloodingNodeSums flatNodeSums(std::size_t node, const FloodingTexelLevels& levels) const;
   Level levelOf(std::size_t node, double liquid, double width) const;
   Eigen::Vector3d centroidBelow(std::size_t node, double height, double width, const Eigen::Vector3d& up) const;
   void refreshLevelsAndCentroids(const Eigen::Vector3d& up, double translationY, double width);
@@ -151,6 +187,8 @@ class LiquidGraph {
   std::vector<float> texelX_, texelY_, texelZ_, texelT_;
   std::vector<std::uint32_t> texelStart_;  // size nodes + 1
   // Per-step state and scratch.
+  std::vector<float> passInside_, passWet_;
+  std::vector<FloodingNodeSums> passSums_;
   std::vector<Eigen::Vector3d> centroids_;
   std::vector<double> levels_, exchange_;
   std::vector<double> h0_, area_, q0_, pushedIn_, slopeAll_, slopeInside_, slopeOutside_, bottom_, top_, delta_;

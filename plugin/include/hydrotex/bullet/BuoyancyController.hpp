@@ -62,9 +62,8 @@ struct ControllerSettings {
   /// its own CPU backend on its threads. Pass hydrotex::gpu::makeGlBackend() (or
   /// gpu::makeBackend("auto")) for the GL compute backend; `plugin/` itself links no GL. Drag,
   /// added mass, the exact path, the mass model and deformation's surface evaluation run on the
-  /// controller's CPU threads with either backend; wetting runs on the backend (makeWetting: the
-  /// GL one steps the liquid texture on the GPU); flooding needs the CPU backend (addBody refuses
-  /// it, naming the effect, with another one).
+  /// controller's CPU threads with either backend; wetting and flooding's pass over the permeable
+  /// texels run on the backend (makeWetting, makeFloodingPass: the GL one runs them on the GPU).
   std::shared_ptr<ComputeBackend> backend;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
