@@ -136,7 +136,7 @@ enum class DeformedCollisionShape {
 /// Which hydrostatics path a body uses.
 enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
-  Polyhedral,  ///< exact clipping of the triangle mesh (flat surfaces and uniform media only)
+  Polyhedral,  ///< exact clipping of the triangle mesh (any surface; waves and grids linearized between vertices)
 };
 
 /// Everything the controller needs to float one rigid body.
