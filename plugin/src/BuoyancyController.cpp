@@ -191,7 +191,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                               settings.effects.has(Effect::VariableMass) || deforming || flooding;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
-  const HydrostaticsMethod method = floating->report.method = resolveHydrostaticsMethod(settings, mesh);  // Auto resolved
+  const HydrostaticsMethod method = floating->report.method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);  // Auto resolved
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool shareable = settings.mesh != nullptr && !wantsMassModel && !settings.effects.has(Effect::Wetting);

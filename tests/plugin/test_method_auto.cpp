@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "../../plugin/src/MethodChoice.hpp"  // private to the plugin, for its bounds
 #include "PluginTestWorld.hpp"
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/Scene.hpp"
@@ -37,6 +38,49 @@ TEST_CASE("method auto: the advisor picks the exact path for a low-poly body, th
   CHECK(world.controller().report(given)->method == HydrostaticsMethod::Texture);
   for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
   CHECK(world.controller().statistics().failedQueries == 0);
+}
+
+TEST_CASE("method auto under waves: the exact path only where its linearization of the surface is within the target",
+          "[floating][method][auto][waves]") {
+  // The log_waves scene's sea: curvature bound sum A k^2 / (1 - sum Q k A)^2 = 0.240 / 0.859^2 =
+  // 0.325 1/m. A 1 x 0.5 x 1 m box of 12 triangles (longest edge sqrt 2 m): the linearization may
+  // err 0.325 x 2 / 8 x 1 m^2 / 0.5 m^3 = 0.16 of the volume, far over 1e-3: the texture path.
+  const auto logWaves = std::make_shared<GerstnerWaves>(
+      std::vector<GerstnerWave>{GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                                GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
+      0.0, 1025.0);
+  const Mesh box = primitives::box({1.0, 0.5, 1.0});
+  REQUIRE(surfaceCurvatureBound(*logWaves).has_value());
+  CHECK(*surfaceCurvatureBound(*logWaves) == Approx(0.2400 / (0.8587 * 0.8587)).epsilon(2e-3));
+  CHECK(exactLinearizationError(box, 0.5, *logWaves) == Approx(0.325 * 2.0 / 8.0 * 1.0 / 0.5).epsilon(3e-3));
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  settings.autoMethodError = 1e-3;
+  {
+    TestWorld world(logWaves);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+  }
+  // A long low swell (100 m, 5 cm): curvature 2e-4 1/m, the linearization within 1e-4 of the
+  // volume: the advisor's choice stands, the exact path for 12 triangles.
+  const auto swell = std::make_shared<GerstnerWaves>(
+      std::vector<GerstnerWave>{GerstnerWave{0.05, 100.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5}}, 0.0, 1025.0);
+  CHECK(exactLinearizationError(box, 0.5, *swell) < 1e-4);
+  {
+    TestWorld world(swell);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Polyhedral);
+  }
+  // A height grid has no curvature bound: the texture path.
+  const auto grid = std::make_shared<HeightGrid>(8, 8, 1.0, -4.0, -4.0, 0.0, 1000.0);
+  CHECK_FALSE(surfaceCurvatureBound(*grid).has_value());
+  {
+    TestWorld world(grid);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+  }
 }
 
 TEST_CASE("method auto: its target is checked, and scenes take \"auto\"", "[floating][method][auto][scene]") {

@@ -141,8 +141,12 @@ enum class HydrostaticsMethod {
   /// advisor (adviseHydrostatics) measures the texture path at the body's `resolution` against the
   /// exact path over 20 poses in flat water, and the texture path is taken when its volume and
   /// centre-of-buoyancy errors stay under `autoMethodError` and it is the faster; else the exact
-  /// path. A deforming body always takes Texture. Costs a bake and some milliseconds of timing at
-  /// registration; near the crossover the timing may choose either way from run to run.
+  /// path. Under waves the exact path linearizes the surface between vertices: when that error's
+  /// bound (surface curvature x longest edge^2 / 8 x the largest face of the bounding box, over
+  /// the volume) exceeds the target, the texture path is taken if it meets the target or errs
+  /// less; under height grids (no curvature bound) likewise. A deforming body always takes
+  /// Texture. Costs a bake and some milliseconds of timing at registration; near the crossover
+  /// the timing may choose either way from run to run.
   Auto,
 };
 
