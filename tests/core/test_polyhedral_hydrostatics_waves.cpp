@@ -110,7 +110,7 @@ TEST_CASE("Exact path, sloped surface: a wall-sided box against closed forms",
   //   tau = -Int x x p n dA = -Int_V x x grad p dV = x_B x F.
   // The water plane is the footprint (A, centred at c), the wetted area A + H times the
   // perimeter. The clipping is exact for a planar surface, so only double rounding remains:
-  // 1e-9 relative (measured about 1e-14).
+  // 1e-9 relative (measured 2e-16 in volume and 5e-16 in force).
   const double density = 1025.0;
   const Eigen::Vector3d extents(1.2, 0.8, 0.6);
   const Mesh box = prim::box(extents);
@@ -307,7 +307,8 @@ TEST_CASE("Exact path under waves: the linearization's error falls as the square
 TEST_CASE("Exact path under waves: zero amplitude gives the flat path's answer", "[hydrostatics][polyhedral][waves]") {
   // A calm Gerstner sea is a plane everywhere, but not flatHeight(): it takes the wave branch
   // (pressure sums) and must give the flat branch's Archimedes answer. Both integrate the same
-  // clipped polygons exactly, so they differ by rounding: 1e-12 relative to each quantity's scale.
+  // clipped polygons exactly, so they differ by rounding: 1e-12 relative to each quantity's scale
+  // (measured at most 2.7e-14 of the volume in volume and force, 1.3e-15 in stiffness).
   const std::vector<std::pair<std::string, Mesh>> meshes = {{"sphere", prim::uvSphere(1.0, 32, 16)},
                                                             {"torus", prim::torus(1.0, 0.4, 32, 16)},
                                                             {"box", prim::box(Eigen::Vector3d(1.0, 0.6, 0.4))}};
