@@ -3,7 +3,8 @@
 // brute force, the exact polyhedral path per triangle, and the texture path under Gerstner waves
 // (hierarchy, and per texel). Prints two tables and writes them as CSV (argv[1], default
 // bench_hydrostatics.csv, and the waves table beside it as *_waves.csv); `--waves` as argv[2]
-// runs the waves table alone. Every figure is the median over several runs of the mean time of a
+// runs the waves table alone, `--exact-waves` the exact path under waves against flat water
+// alone (printed, no CSV). Every figure is the median over several runs of the mean time of a
 // batch of queries.
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -115,9 +116,49 @@ std::vector<WavesRow> wavesTable(int rounds) {
   return rows;
 }
 
+/// The exact path under waves (issue 19 item 2) against the same body in flat water: a ~300- and a
+/// ~3000-triangle sphere half submerged and tilted, flat and wavy queries timed in alternation
+/// (the same load on a shared machine), medians over the rounds; and a surfaceHeight call alone,
+/// which the wavy query makes once per vertex that may be wet.
+void exactWavesTable(int rounds) {
+  const GerstnerWaves swell({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                             GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                             GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
+  const FlatSurface water(0.0);
+  HydrostaticsQuery query;
+  query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(20, 10, 5), Eigen::Vector3d(0.0, 0.1, 0.0));
+  query.time = 3.0;
+  const std::vector<std::pair<std::string, Mesh>> bodies = {{"icosphere 2", primitives::icosphere(1.0, 2)},
+                                                            {"uv sphere 48 x 32", primitives::uvSphere(1.0, 48, 32)},
+                                                            {"uv sphere 96 x 48", primitives::uvSphere(1.0, 96, 48)}};
+  std::printf("%-20s %10s %10s %10s %10s %7s\n", "exact path", "triangles", "vertices", "flat us", "waves us", "ratio");
+  for (const auto& [name, mesh] : bodies) {
+    std::vector<double> flat, wavy;
+    for (int round = 0; round < rounds; ++round) {
+      flat.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostaticsUnchecked(mesh, water, query)->submergedVolume; }, 3));
+      wavy.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostaticsUnchecked(mesh, swell, query)->submergedVolume; }, 3));
+    }
+    std::sort(flat.begin(), flat.end());
+    std::sort(wavy.begin(), wavy.end());
+    const double f = flat[flat.size() / 2] * 1e6, w = wavy[wavy.size() / 2] * 1e6;
+    std::printf("%-20s %10zu %10zu %10.2f %10.2f %7.2f\n", name.c_str(), mesh.triangles.size(), mesh.positions.size(), f, w,
+                w / f);
+  }
+  double x = 0.0;
+  const double seconds = medianSecondsPerCall([&] {
+    for (int i = 0; i < 1000; ++i) sink = sink + swell.surfaceHeight(x + 0.01 * i, 0.3 * i, 0.0);
+    x += 0.1;
+  });
+  std::printf("Gerstner surfaceHeight (3 waves): %.1f ns per call\n", seconds * 1e9 / 1000);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 && std::string(argv[2]) == "--exact-waves") {
+    exactWavesTable(9);
+    return 0;
+  }
   const std::string csvPath = argc > 1 ? argv[1] : "bench_hydrostatics.csv";
   {
     const std::vector<WavesRow> waves = wavesTable(9);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Zlib
-// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--threads N] [--backend cpu|gpu|auto] [--json]`:
+// `hydrotex simulate SCENE.json [--csv OUT.csv] [--every N] [--threads N] [--backend cpu|gpu|auto]
+// [--method texture|polyhedral|auto] [--json]`:
 // runs a scene headless in Bullet with the BuoyancyController and writes one CSV row per body
 // every N steps.
 
@@ -28,6 +29,7 @@ struct SimulateOptions {
   long long every = 1;
   std::string threads;  ///< overrides the scene's `threads` when given (parsed here, to name a bad value)
   std::string backend;  ///< overrides the scene's `backend` when given
+  std::string method;   ///< overrides every rigid body's `method` when given
   bool json = false;
 };
 
@@ -100,6 +102,13 @@ int runSimulate(const SimulateOptions& options) {
   if (!scene) return reportError(scene.error());
   if (threads) scene->threads = *threads;
   if (!options.backend.empty()) scene->backend = options.backend;
+  if (!options.method.empty()) {
+    const bullet::HydrostaticsMethod method = options.method == "texture"      ? bullet::HydrostaticsMethod::Texture
+                                              : options.method == "polyhedral" ? bullet::HydrostaticsMethod::Polyhedral
+                                                                               : bullet::HydrostaticsMethod::Auto;
+    for (bullet::SceneBody& body : scene->bodies)
+      if (!body.soft) body.method = method;
+  }
   Expected<std::unique_ptr<bullet::SceneWorld>> created = bullet::SceneWorld::create(*scene, controllerBackend);
   if (!created) return reportError(created.error());
   bullet::SceneWorld& sceneWorld = **created;
@@ -170,9 +179,11 @@ int runSimulate(const SimulateOptions& options) {
     entry["linear_velocity"] = toJson(v);
     entry["mass"] = report->massProperties.mass;
     entry["submerged_volume"] = report->hydrostatics.submergedVolume;
+    entry["method"] = report->method == bullet::HydrostaticsMethod::Polyhedral ? "polyhedral" : "texture";
     bodies.push_back(entry);
     text << "  " << scene->bodies[i].name << ": centre of mass " << formatVector(p) << " m, velocity "
-         << formatVector(v) << " m/s, submerged " << report->hydrostatics.submergedVolume << " m^3\n";
+         << formatVector(v) << " m/s, submerged " << report->hydrostatics.submergedVolume << " m^3 ("
+         << (report->method == bullet::HydrostaticsMethod::Polyhedral ? "polyhedral" : "texture") << ")\n";
   }
   for (std::size_t i = 0; i < sceneWorld.softBodies().size(); ++i) {
     const bullet::SoftBodyMotion motion = bullet::softBodyMotion(*sceneWorld.softBodies()[i]);
@@ -210,6 +221,11 @@ void addSimulateVerb(CLI::App& app, VerbAction& action) {
                    "results are bit-identical for every count");
   verb->add_option("--backend", options->backend,
                    "Backend of the controller's texture hydrostatics: cpu, gpu (GL compute) or auto (GL when a GPU opens through EGL, else cpu); default: the scene's `backend`, else auto");
+  verb->add_option("--method", options->method,
+                   "Hydrostatics path of every rigid body: texture, polyhedral (exact) or auto (chosen per body at "
+                   "registration by the advisor, error 1e-4 of the volume unless the scene's auto_method_error says); "
+                   "default: each body's `method`")
+      ->check(CLI::IsMember({"texture", "polyhedral", "auto"}));
   verb->add_flag("--json", options->json, "Print the summary as one JSON object");
   verb->callback([options, &action] { action = [options] { return runSimulate(*options); }; });
 }

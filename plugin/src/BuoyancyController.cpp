@@ -14,6 +14,7 @@
 #include "BodyThreads.hpp"
 #include "BulletEigen.hpp"
 #include "FloatingBody.hpp"
+#include "MethodChoice.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
@@ -185,7 +186,8 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                               settings.effects.has(Effect::VariableMass) || deforming || flooding;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
-  const bool texturePath = settings.method == HydrostaticsMethod::Texture &&
+  const HydrostaticsMethod method = floating->report.method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);  // Auto resolved
+  const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool shareable = settings.mesh != nullptr && !wantsMassModel && !settings.effects.has(Effect::Wetting);
   const ModelKey key{settings.mesh.get(), settings.resolution, texturePath, settings.effects.has(Effect::Drag),
@@ -236,7 +238,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
   const bool needsBake =
-      settings.method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
+      method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
   if (shared) {
     floating->model = shared;

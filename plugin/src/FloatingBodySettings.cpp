@@ -88,6 +88,9 @@ Status FloatingBodySettings::validate() const {
   if (resolution < 16 || resolution > 4096) {
     return Error{"resolution: " + std::to_string(resolution) + " is outside 16..4096"};
   }
+  if (!(autoMethodError > 0.0) || !std::isfinite(autoMethodError)) {
+    return Error{"autoMethodError: " + std::to_string(autoMethodError) + " is not positive and finite"};
+  }
   if (density && mass) return Error{"density and mass: give one of them, not both"};
   if (density && !(std::isfinite(*density) && *density > 0.0)) {
     return Error{"density: " + std::to_string(*density) + " kg/m^3 must be positive and finite"};
@@ -112,7 +115,7 @@ Status FloatingBodySettings::validate() const {
       return Error{"deformation: the effect needs a deformation function or scale keyframes"};
     }
     if (deformation && !scaleKeyframes.empty()) return Error{"deformation: give a function or scale keyframes, not both"};
-    if (method != HydrostaticsMethod::Texture) return Error{"deformation: needs the texture method"};
+    if (method == HydrostaticsMethod::Polyhedral) return Error{"deformation: needs the texture method"};
   }
   for (std::size_t i = 0; i < scaleKeyframes.size(); ++i) {
     const ScaleKeyframe& key = scaleKeyframes[i];

@@ -379,9 +379,14 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
     body.method = HydrostaticsMethod::Texture;
   } else if (method == "polyhedral" || method == "exact") {
     body.method = HydrostaticsMethod::Polyhedral;
+  } else if (method == "auto") {
+    body.method = HydrostaticsMethod::Auto;
   } else {
-    return reader.error("method", "'" + method + "' is not one of texture, polyhedral");
+    return reader.error("method", "'" + method + "' is not one of texture, polyhedral, auto");
   }
+  HYDROTEX_TRY(reader.number("auto_method_error", body.autoMethodError));
+  if (!(body.autoMethodError > 0.0) || !std::isfinite(body.autoMethodError))
+    return reader.error("auto_method_error", "must be positive and finite");
   if (const Json* effects = reader.find("effects")) {
     if (!effects->is_array()) return reader.error("effects", "expected an array of effect names");
     body.effects = EffectSet{};
@@ -724,6 +729,7 @@ Expected<std::unique_ptr<SceneWorld>> SceneWorld::create(const Scene& scene, con
     settings.mesh = mesh;
     settings.resolution = sceneBody.resolution;
     settings.method = sceneBody.method;
+    settings.autoMethodError = sceneBody.autoMethodError;
     settings.density = sceneBody.density;
     settings.mass = sceneBody.mass;
     settings.effects = sceneBody.effects;

@@ -6,11 +6,17 @@
 /// quadratics on a triangle: Strang and Fix 1973, table 4.1). HydrostaticSums turns the moments
 /// into volume, centre of buoyancy and water plane (divergence theorem; Mirtich 1996, "Fast and
 /// accurate computation of polyhedral mass properties", for the same idea on the whole body).
+/// Under waves and height grids (issue 19 item 2) the depth below the local surface is taken at
+/// each vertex and linear over each triangle, the triangle is clipped where it changes sign, and
+/// the linear pressure is integrated exactly over the wetted part (addWetTriangle), as boat
+/// models that clip hull triangles against a wave surface do (Kerner, "Water interaction model
+/// for boats in video games", Game Developer 2015; Stonefish's hydrodynamics).
 
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -85,6 +91,100 @@ inline void addClippedTriangle(Moments& m, const Point p[3], const double depth[
   }
 }
 
+/// A vertex in the world frame translated to the frame origin o (m), and its depth below the
+/// free surface d = h(x, z, t) - y (m; NaN until a triangle that may be wet asks for it).
+struct SurfaceVertex {
+  double x, y, z, depth;
+};
+
+/// Adds the part of a triangle under a free surface that is not flat, whose depth d is linear over
+/// the triangle (the piece's corners: a, b, c in frame o, counter-clockwise seen from outside,
+/// depths da, db, dc >= 0). With the barycentric coordinates lambda_i and
+///   Int_T lambda_i lambda_j dA = |T| (1 + delta_ij) / 12,
+/// a product of two linear functions f, g integrates exactly as
+///   Int_T f g dA = |T| (Sum f_i Sum g_j + Sum f_i g_i) / 12,                        (1)
+/// and a linear one as Int_T f dA = |T| Sum f_i / 3. Hence, with A = |T| n the area vector:
+///   force:   -Int p n dA = -rho g Int d dA n = -rho g (Sum d_i / 3) A   (the mean vertex depth),
+///   torque:  -Int x' x p n dA = -rho g (Int d x' dA) x n = -rho g m x A,
+///            m = (Sum d_i Sum x'_j + Sum d_i x'_i) / 12 by (1): the linear pressure acts at its
+///            centre x_P = m / (Sum d_i / 3) = (Sum d_i Sum x'_j + Sum d_i x'_i) / (4 Sum d_i),
+///            which is the centroid when the depth is uniform and moves toward the deeper corners;
+///   volume and centre of buoyancy: HydrostaticSums.hpp's fields with D x' from m, and
+///            Int (d^2/2 - h' d) n_y dA with h' = d + y' (the surface is linear over the piece
+///            too: its height at a corner is the surface's, at a cut point the cut point's own):
+///            = -(Int d^2 dA / 2 + Int y' d dA) n_y = -((Sum d)^2 + Sum d^2) / 24 A_y - m_y A_y;
+///   water plane (the cap's integrals are minus the wetted surface's): Int f n_y dA for
+///            f = 1, x', z', x'^2, x' z', z'^2, by (1) again.
+inline void addWetTriangle(detail::WettedSums& sums, const SurfaceVertex& a, const SurfaceVertex& b,
+                           const SurfaceVertex& c, double da, double db, double dc) {
+  const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+  const double vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+  const double ax = 0.5 * (uy * vz - uz * vy), ay = 0.5 * (uz * vx - ux * vz), az = 0.5 * (ux * vy - uy * vx);
+  const double depthSum = da + db + dc;
+  const double sumX = a.x + b.x + c.x, sumY = a.y + b.y + c.y, sumZ = a.z + b.z + c.z;
+  const double twelfth = 1.0 / 12.0;
+  // m = Int d x' dA / |T| (eq. 1).
+  const double mx = (depthSum * sumX + da * a.x + db * b.x + dc * c.x) * twelfth;
+  const double my = (depthSum * sumY + da * a.y + db * b.y + dc * c.y) * twelfth;
+  const double mz = (depthSum * sumZ + da * a.z + db * b.z + dc * c.z) * twelfth;
+  const double meanDepth = depthSum / 3.0;
+  sums.sumDA[0] += meanDepth * ax;
+  sums.sumDA[1] += meanDepth * ay;
+  sums.sumDA[2] += meanDepth * az;
+  sums.sumDxA[0] += my * az - mz * ay;
+  sums.sumDxA[1] += mz * ax - mx * az;
+  sums.sumDxA[2] += mx * ay - my * ax;
+  sums.sumDXAy += mx * ay;
+  sums.sumDZAy += mz * ay;
+  const double meanDepthSq = (depthSum * depthSum + da * da + db * db + dc * dc) * twelfth;
+  sums.sumYB -= (0.5 * meanDepthSq + my) * ay;
+  sums.sumAy += ay;
+  sums.sumXAy += sumX / 3.0 * ay;
+  sums.sumZAy += sumZ / 3.0 * ay;
+  sums.sumXXAy += (sumX * sumX + a.x * a.x + b.x * b.x + c.x * c.x) * twelfth * ay;
+  sums.sumXZAy += (sumX * sumZ + a.x * a.z + b.x * b.z + c.x * c.z) * twelfth * ay;
+  sums.sumZZAy += (sumZ * sumZ + a.z * a.z + b.z * b.z + c.z * c.z) * twelfth * ay;
+  sums.wettedArea += std::sqrt(ax * ax + ay * ay + az * az);
+}
+
+inline SurfaceVertex lerp(const SurfaceVertex& a, const SurfaceVertex& b, double t) {
+  return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t, 0.0};
+}
+
+/// Adds the part of a triangle where its linearly interpolated depth is positive: the triangle
+/// clipped where d changes sign (the cut points, d = 0, by linear interpolation along the edges).
+inline void addClippedWetTriangle(detail::WettedSums& sums, const SurfaceVertex* p[3]) {
+  const double depth[3] = {p[0]->depth, p[1]->depth, p[2]->depth};
+  const bool under[3] = {depth[0] > 0.0, depth[1] > 0.0, depth[2] > 0.0};
+  const int count = int(under[0]) + int(under[1]) + int(under[2]);
+  if (count == 0) return;
+  if (count == 3) {
+    addWetTriangle(sums, *p[0], *p[1], *p[2], depth[0], depth[1], depth[2]);
+    return;
+  }
+  // Rotate the corners (keeping orientation) so that corner i is the odd one out.
+  int i = 0;
+  for (int k = 0; k < 3; ++k)
+    if (under[k] == (count == 1)) i = k;
+  const int j = (i + 1) % 3, k = (i + 2) % 3;
+  const SurfaceVertex qij = lerp(*p[i], *p[j], depth[i] / (depth[i] - depth[j]));
+  const SurfaceVertex qik = lerp(*p[i], *p[k], depth[i] / (depth[i] - depth[k]));
+  if (count == 1) {
+    addWetTriangle(sums, *p[i], qij, qik, depth[i], 0.0, 0.0);
+  } else {
+    // Corner i is dry: the wetted part is the quad qij, p[j], p[k], qik.
+    addWetTriangle(sums, qij, *p[j], *p[k], 0.0, depth[j], depth[k]);
+    addWetTriangle(sums, qij, *p[k], qik, 0.0, depth[k], 0.0);
+  }
+}
+
+/// Per-thread scratch for the vertices under a free surface that is not flat: it grows to the
+/// largest mesh a thread has seen and is reused, so that a step allocates nothing.
+std::vector<SurfaceVertex>& surfaceVertexScratch() {
+  thread_local std::vector<SurfaceVertex> scratch;
+  return scratch;
+}
+
 bool indicesInRange(const Mesh& mesh) {
   const auto count = static_cast<unsigned>(mesh.positions.size());
   for (const Eigen::Vector3i& t : mesh.triangles)
@@ -115,8 +215,6 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
                                                              const HydrostaticsQuery& query) {
   if (Status valid = validateHydrostaticsQuery(surface, query); !valid) return valid.error();
   const std::optional<double> flat = surface.flatHeight();
-  if (!flat && surface.hasFreeSurface())
-    return Error{"exact hydrostatics: the liquid surface is not flat; use the texture path for waves and grids"};
   if (mesh.triangles.empty()) return Error{"exact hydrostatics: the mesh has no triangles"};
   if (!indicesInRange(mesh)) return Error{"exact hydrostatics: a triangle index is out of range"};
 
@@ -143,6 +241,54 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
     }
     origin = Eigen::Vector3d(translation.x(), *flat, translation.z());
     sums.addSubmergedMoments(moments, rotation, translation - origin);
+  } else if (surface.hasFreeSurface()) {
+    // Waves, height grids: the surface asked once per vertex (of the triangles that may be wet),
+    // the depth taken linear over each triangle between its vertices (so the surface is
+    // linearized between vertices: an O(edge^2 curvature) difference from the true surface), and
+    // the wetted part integrated exactly for that depth (addWetTriangle). The frame origin, the
+    // force model and the water plane are the texture path's under waves
+    // (TextureHydrostatics.cpp): o = (t_x, h(x_G, z_G), t_z), pressure sums, and the stiffness
+    // from the cap's projection onto the horizontal, about the plane y = h(x_G, z_G) through o,
+    // i.e. the flat-water formulas applied to the local mean plane at the centre of mass.
+    const Eigen::Vector3d centerOfMass = query.pose.apply(query.centerOfMass);
+    const double originHeight = surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), query.time);
+    if (!std::isfinite(originHeight))
+      return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(originHeight) +
+                   " m) above the centre of mass"};
+    origin = Eigen::Vector3d(translation.x(), originHeight, translation.z());
+    const Eigen::Vector3d offset = translation - origin;
+    // Triangles wholly above the surface's highest point are dry without asking the surface
+    // (Gerstner waves: a Newton search per call).
+    const double highest = surface.heightRange(query.time).second - origin.y();
+    std::vector<SurfaceVertex>& vertices = surfaceVertexScratch();
+    vertices.resize(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      const Eigen::Vector3d w = rotation * positions[v] + offset;
+      vertices[v] = {w.x(), w.y(), w.z(), std::numeric_limits<double>::quiet_NaN()};
+    }
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
+      if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
+      for (int c = 0; c < 3; ++c) {
+        SurfaceVertex& vertex = vertices[t[c]];
+        if (!std::isnan(vertex.depth)) continue;
+        if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
+          return Error{"exact hydrostatics: vertex " + std::to_string(t[c]) + " of the mesh is not finite"};
+        const double x = vertex.x + origin.x(), z = vertex.z + origin.z();
+        const double height = surface.surfaceHeight(x, z, query.time);
+        if (!std::isfinite(height))
+          return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
+                       " m) at (x, z) = (" + std::to_string(x) + ", " + std::to_string(z) + ") m, above vertex " +
+                       std::to_string(t[c])};
+        vertex.depth = (height - origin.y()) - vertex.y;
+      }
+      addClippedWetTriangle(sums, p);
+    }
+    const double rhoG = surface.density() * query.gravity;
+    for (int k = 0; k < 3; ++k) {
+      sums.pressureForce[k] = -rhoG * sums.sumDA[k];
+      sums.pressureTorque[k] = -rhoG * sums.sumDxA[k];
+    }
   } else {
     // No free surface: all of the body is submerged; the medium's pressure is integrated per
     // triangle at its centroid (exact when the density is constant: p is then linear).
@@ -166,7 +312,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
 
   HydrostaticsResult result = detail::finishHydrostatics(
       sums, origin, surface.density(), query, flat ? detail::ForceModel::Archimedes : detail::ForceModel::PressureSums,
-      flat.has_value());
+      surface.hasFreeSurface());
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
     return Error{"exact hydrostatics: non-finite result (a vertex of the mesh is NaN or infinite)"};
   return result;

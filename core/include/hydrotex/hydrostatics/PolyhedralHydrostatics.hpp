@@ -2,9 +2,10 @@
 #pragma once
 /// @file PolyhedralHydrostatics.hpp
 /// The exact reference path (docs/design.md "Exact reference"): the closed triangle mesh is clipped
-/// against the flat liquid surface in double precision and every quantity is integrated exactly
-/// over the wetted part of the surface (divergence theorem with fields that vanish on the water
-/// plane). Any closed mesh, convex or not. O(triangles).
+/// against the liquid surface in double precision and every quantity is integrated exactly over
+/// the wetted part of the surface (divergence theorem with fields that vanish on the surface).
+/// Any closed mesh, convex or not. O(triangles). Under a flat surface exact for the mesh; under
+/// waves and height grids exact for the surface linearized between the mesh's vertices.
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -14,19 +15,34 @@
 namespace hydrotex {
 
 /// Exact hydrostatics of `mesh` (body frame, m) posed by `query` in `surface`.
-/// Surfaces: flat (exact), or a uniform medium (every triangle submerged; exact volume and centre
-/// of buoyancy, force from the pressure at each triangle's centroid times its area vector, exact
-/// when the density is constant). Errors: a surface that is neither (waves, height grids: use the
-/// texture path), an invalid query (see validateHydrostaticsQuery), an empty or open mesh (an edge
-/// not shared by exactly two triangles in opposite directions), or an index out of range.
+/// Surfaces:
+/// - flat (flatHeight()): exact; the force is Archimedes' rho g V up (N) at the centre of buoyancy.
+/// - any other free surface (Gerstner waves, height grids): the surface height is asked once per
+///   vertex of the triangles that may be wet (those not wholly above heightRange()'s highest
+///   point), the depth d = h(x, z, t) - y (m) is taken linear over each triangle, each triangle is
+///   clipped where d changes sign, and the pressure rho g d (Pa) is integrated exactly over the
+///   wetted part: force and torque are pressure sums (N, N m), volume (m^3) and centre of
+///   buoyancy (m) those under the surface linearized between vertices. The difference from the
+///   true surface is O(edge^2 x the surface's curvature) per unit of wetted area: mesh finely
+///   against the wavelength. Frame origin and stiffness as the texture path's under waves: the
+///   water plane is the cap's horizontal projection, the stiffness the flat-water formula about
+///   the plane y = h(x_G, z_G) through the centre of mass's vertical (N/m, N, N m/rad).
+/// - a uniform medium (no free surface): every triangle submerged; exact volume and centre of
+///   buoyancy, force from the pressure at each triangle's centroid times its area vector, exact
+///   when the density is constant.
+/// Errors: an invalid query (see validateHydrostaticsQuery), an empty or open mesh (an edge not
+/// shared by exactly two triangles in opposite directions), an index out of range, a vertex that
+/// is not finite, or a surface height that is not finite (NaN; the message names the point).
 /// The closedness check costs O(triangles log triangles); call polyhedralHydrostaticsUnchecked()
 /// per step once the mesh is known to be closed.
 Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const LiquidSurface& surface,
                                                     const HydrostaticsQuery& query);
 
 /// As polyhedralHydrostatics() without the closedness check (the caller vouches for it; indices
-/// are still range-checked). Allocation-free; under 20 ns per triangle is the goal
-/// (bench_hydrostatics).
+/// are still range-checked). Allocation-free under a flat surface or a medium; under 20 ns per
+/// triangle is the goal there (bench_hydrostatics). Under other free surfaces a per-thread scratch
+/// of one entry per vertex (32 bytes) grows to the largest mesh the thread has seen and is reused;
+/// the cost is then dominated by the surface's height queries, one per vertex that may be wet.
 Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
 

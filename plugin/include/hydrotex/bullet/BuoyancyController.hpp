@@ -103,6 +103,7 @@ struct FloatingBodyReport {
   double liquidHeld = 0.0;           ///< with Effect::Wetting: liquid held in the surface layer (m^3)
   double liquidAbsorbed = 0.0;       ///< with Effect::Wetting: absorbed since registration (m^3)
   double liquidEvaporated = 0.0;     ///< with Effect::Wetting: evaporated since registration (m^3)
+  HydrostaticsMethod method = HydrostaticsMethod::Texture;  ///< the path it runs (HydrostaticsMethod::Auto resolved at addBody)
 };
 
 class BodyThreads;

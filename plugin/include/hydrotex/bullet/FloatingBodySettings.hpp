@@ -136,7 +136,18 @@ enum class DeformedCollisionShape {
 /// Which hydrostatics path a body uses.
 enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
-  Polyhedral,  ///< exact clipping of the triangle mesh (flat surfaces and uniform media only)
+  Polyhedral,  ///< exact clipping of the triangle mesh (any surface; waves and grids linearized between vertices)
+  /// Resolved at addBody to Texture or Polyhedral (the report's `method` says which): core's
+  /// advisor (adviseHydrostatics) measures the texture path at the body's `resolution` against the
+  /// exact path over 20 poses in flat water, and the texture path is taken when its volume and
+  /// centre-of-buoyancy errors stay under `autoMethodError` and it is the faster; else the exact
+  /// path. Under waves the exact path linearizes the surface between vertices: when that error's
+  /// bound (surface curvature x longest edge^2 / 8 x the largest face of the bounding box, over
+  /// the volume) exceeds the target, the texture path is taken if it meets the target or errs
+  /// less; under height grids (no curvature bound) likewise. A deforming body always takes
+  /// Texture. Costs a bake and some milliseconds of timing at registration; near the crossover
+  /// the timing may choose either way from run to run.
+  Auto,
 };
 
 /// Everything the controller needs to float one rigid body.
@@ -156,6 +167,10 @@ struct FloatingBodySettings {
   int resolution = 256;
   /// Hydrostatics path.
   HydrostaticsMethod method = HydrostaticsMethod::Texture;
+  /// With HydrostaticsMethod::Auto: the largest error allowed of the texture path, relative to the
+  /// body's volume (submerged volume) and to its bounding-box diagonal (centre of buoyancy);
+  /// 1e-4 by default (> 0).
+  double autoMethodError = 1e-4;
   /// Uniform solid density (kg/m^3). Exactly one of density and mass may be given; with neither,
   /// the rigid body's own mass is kept and spread uniformly. What is given is what a deforming
   /// body keeps (matter does not appear because a mesh grows): a body given by its density keeps

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: Zlib
+// HydrostaticsMethod::Auto: resolved at addBody by core's advisor to the exact path for a
+// low-poly body and to the texture path for a high-poly one under a loose target; the report says
+// which; the scene key and the settings' target are checked.
+
+#include <catch2/catch.hpp>
+
+#include "../../plugin/src/MethodChoice.hpp"  // private to the plugin, for its bounds
+#include "PluginTestWorld.hpp"
+#include "TestPaths.hpp"
+#include "hydrotex/bullet/Scene.hpp"
+
+using namespace hydrotex;
+using namespace hydrotex::bullet;
+using hydrotex::bullet::testing::solid;
+using hydrotex::bullet::testing::TestWorld;
+
+TEST_CASE("method auto: the advisor picks the exact path for a low-poly body, the texture path for a high-poly one",
+          "[floating][method][auto]") {
+  TestWorld world;
+  // A 12-triangle box: the exact path answers in well under a microsecond, far under the texture
+  // path at 64^2 (README: 3.8 us), whatever the texture's error.
+  FloatingBodySettings box = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  btRigidBody* low = world.add(primitives::box({1.0, 0.5, 1.0}), box, btVector3(0, 0, 0));
+  REQUIRE(low != nullptr);
+  CHECK(world.controller().report(low)->method == HydrostaticsMethod::Polyhedral);
+  // A 32k-triangle sphere under a 1e-2 target: the texture path at 64^2 meets it (its error is
+  // about 3e-4, README) at a small fraction of the exact path's time (about 40 times less).
+  FloatingBodySettings sphere = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  sphere.autoMethodError = 1e-2;
+  btRigidBody* high = world.add(primitives::uvSphere(0.5, 256, 64), sphere, btVector3(5, 0, 0));
+  REQUIRE(high != nullptr);
+  CHECK(world.controller().report(high)->method == HydrostaticsMethod::Texture);
+  // Explicit methods are reported as given.
+  btRigidBody* given = world.add(primitives::box({1.0, 0.5, 1.0}), solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Texture),
+                                 btVector3(-5, 0, 0));
+  REQUIRE(given != nullptr);
+  CHECK(world.controller().report(given)->method == HydrostaticsMethod::Texture);
+  for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
+  CHECK(world.controller().statistics().failedQueries == 0);
+}
+
+TEST_CASE("method auto under waves: the exact path only where its linearization of the surface is within the target",
+          "[floating][method][auto][waves]") {
+  // The log_waves scene's sea: curvature bound sum A k^2 / (1 - sum Q k A)^2 = 0.240 / 0.859^2 =
+  // 0.325 1/m. A 1 x 0.5 x 1 m box of 12 triangles (longest edge sqrt 2 m): the linearization may
+  // err 0.325 x 2 / 8 x 1 m^2 / 0.5 m^3 = 0.16 of the volume, far over 1e-3: the texture path.
+  const auto logWaves = std::make_shared<GerstnerWaves>(
+      std::vector<GerstnerWave>{GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                                GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
+      0.0, 1025.0);
+  const Mesh box = primitives::box({1.0, 0.5, 1.0});
+  REQUIRE(surfaceCurvatureBound(*logWaves).has_value());
+  CHECK(*surfaceCurvatureBound(*logWaves) == Approx(0.2400 / (0.8587 * 0.8587)).epsilon(2e-3));
+  CHECK(exactLinearizationError(box, 0.5, *logWaves) == Approx(0.325 * 2.0 / 8.0 * 1.0 / 0.5).epsilon(3e-3));
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  settings.autoMethodError = 1e-3;
+  {
+    TestWorld world(logWaves);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+  }
+  // A long low swell (100 m, 5 cm): curvature 2e-4 1/m, the linearization within 1e-4 of the
+  // volume: the advisor's choice stands, the exact path for 12 triangles.
+  const auto swell = std::make_shared<GerstnerWaves>(
+      std::vector<GerstnerWave>{GerstnerWave{0.05, 100.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5}}, 0.0, 1025.0);
+  CHECK(exactLinearizationError(box, 0.5, *swell) < 1e-4);
+  {
+    TestWorld world(swell);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Polyhedral);
+  }
+  // A height grid has no curvature bound: the texture path.
+  const auto grid = std::make_shared<HeightGrid>(8, 8, 1.0, -4.0, -4.0, 0.0, 1000.0);
+  CHECK_FALSE(surfaceCurvatureBound(*grid).has_value());
+  {
+    TestWorld world(grid);
+    btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+  }
+}
+
+TEST_CASE("method auto: its target is checked, and scenes take \"auto\"", "[floating][method][auto][scene]") {
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  settings.mesh = std::make_shared<const Mesh>(primitives::box({1.0, 1.0, 1.0}));
+  CHECK(settings.validate().ok());
+  settings.autoMethodError = 0.0;
+  REQUIRE_FALSE(settings.validate().ok());
+  CHECK(settings.validate().error().message.find("autoMethodError") != std::string::npos);
+
+  const std::string base = test::sourcePath("data/meshes");
+  auto parse = [&](const std::string& body) {
+    return parseScene(R"({"bodies": [{"mesh": "sphere.obj", "mass": 10, )" + body + "}]}", base, "auto.json");
+  };
+  auto scene = parse(R"("method": "auto", "auto_method_error": 1e-3)");
+  REQUIRE(scene.ok());
+  CHECK(scene->bodies[0].method == HydrostaticsMethod::Auto);
+  CHECK(scene->bodies[0].autoMethodError == 1e-3);
+  CHECK(parse(R"("method": "auto")")->bodies[0].autoMethodError == 1e-4);
+  auto bad = parse(R"("method": "fastest")");
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().message.find("auto") != std::string::npos);
+  CHECK_FALSE(parse(R"("method": "auto", "auto_method_error": 0)").ok());
+}
