@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "RandomRotation.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -25,10 +26,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kRho = 1000.0;
 constexpr double kG = 9.81;
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
+using hydrotex::testing::randomRotation;
 
 HydrostaticsResult exact(const Mesh& mesh, double level, const Pose& pose, const Eigen::Vector3d& com = Eigen::Vector3d::Zero()) {
   HydrostaticsQuery query;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "RandomRotation.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -26,10 +27,7 @@ namespace {
 
 constexpr double kG = 9.81;
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
+using hydrotex::testing::randomRotation;
 
 Eigen::Matrix3d rotationAboutY(double angle) { return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix(); }
 

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "RandomRotation.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -19,10 +20,7 @@ namespace prim = hydrotex::primitives;
 
 namespace {
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
+using hydrotex::testing::randomRotation;
 
 TextureHydrostatics buildTexture(const Mesh& mesh, int resolution) {
   BakeSettings settings;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hydrostatics/SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
+#include "RandomRotation.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -24,10 +25,7 @@ namespace prim = hydrotex::primitives;
 
 namespace {
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
+using hydrotex::testing::randomRotation;
 
 /// The wave sets: bench_hydrostatics' three-wave swell, the log_waves scene's two waves, and the
 /// GL parity test's three steep crossing waves (sum Q k A = 0.38).
