@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "RandomRotation.hpp"
+#include "TestSurfaces.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -51,36 +52,10 @@ HydrostaticsResult exactAnswer(const Mesh& mesh, const LiquidSurface& surface, c
   return *result;
 }
 
-/// Gerstner seas (test_texture_hydrostatics_waves' sets): bench_hydrostatics' three-wave swell,
-/// the log_waves scene's waves (data/scenes/log_waves.json: two components, 0.3 m at 12 m and
-/// 0.1 m at 5 m, in sea water), and three steep crossing waves (sum Q k A = 0.38).
-struct Sea {
-  std::string name;
-  GerstnerWaves waves;
-};
-std::vector<Sea> seas() {
-  return {{"swell", GerstnerWaves({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                                   GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
-                                   GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}})},
-          {"log_waves", GerstnerWaves({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                                       GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
-                                      0.0, 1025.0)},
-          {"steep", GerstnerWaves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
-                                   GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
-                                   GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
-                                  0.05, 1025.0)}};
-}
+using hydrotex::test::Sea;
+std::vector<Sea> seas() { return hydrotex::test::gerstnerSeas(); }
 
-TextureHydrostatics buildTexture(const Mesh& mesh, int resolution) {
-  BakeSettings bake;
-  bake.width = bake.height = resolution;
-  const auto baked = bakeSurface(mesh, mesh.uv, bake);
-  REQUIRE(baked.ok());
-  const SurfaceTextures textures = evaluateSurface(*baked, mesh, mesh.uv);
-  auto body = TextureHydrostatics::build(*baked, textures);
-  REQUIRE(body.ok());
-  return std::move(body).value();
-}
+TextureHydrostatics buildTexture(const Mesh& mesh, int resolution) { return hydrotex::test::textureHydrostaticsOf(mesh, resolution); }
 
 /// A surface that answers NaN east of x = 0 (a broken external simulation).
 class HoleySurface final : public LiquidSurface {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "RandomRotation.hpp"
+#include "TestSurfaces.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -22,16 +23,7 @@ namespace {
 
 using hydrotex::testing::randomRotation;
 
-TextureHydrostatics buildTexture(const Mesh& mesh, int resolution) {
-  BakeSettings settings;
-  settings.width = settings.height = resolution;
-  const auto bake = bakeSurface(mesh, mesh.uv, settings);
-  REQUIRE(bake.ok());
-  const SurfaceTextures textures = evaluateSurface(*bake, mesh, mesh.uv);
-  auto body = TextureHydrostatics::build(*bake, textures);
-  REQUIRE(body.ok());
-  return std::move(body).value();
-}
+TextureHydrostatics buildTexture(const Mesh& mesh, int resolution) { return hydrotex::test::textureHydrostaticsOf(mesh, resolution); }
 
 HydrostaticsResult run(const TextureHydrostatics& body, const LiquidSurface& surface, const Pose& pose,
                        TexelTraversal traversal = TexelTraversal::Hierarchy) {

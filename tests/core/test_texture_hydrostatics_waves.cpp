@@ -14,6 +14,7 @@
 
 #include "hydrostatics/SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
 #include "RandomRotation.hpp"
+#include "TestSurfaces.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -27,24 +28,8 @@ namespace {
 
 using hydrotex::testing::randomRotation;
 
-/// The wave sets: bench_hydrostatics' three-wave swell, the log_waves scene's two waves, and the
-/// GL parity test's three steep crossing waves (sum Q k A = 0.38).
-struct Sea {
-  std::string name;
-  GerstnerWaves waves;
-};
-std::vector<Sea> seas() {
-  return {{"swell", GerstnerWaves({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                                   GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
-                                   GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}})},
-          {"log_waves", GerstnerWaves({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                                       GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
-                                      0.0, 1025.0)},
-          {"steep", GerstnerWaves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
-                                   GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
-                                   GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
-                                  0.05, 1025.0)}};
-}
+using hydrotex::test::Sea;
+std::vector<Sea> seas() { return hydrotex::test::gerstnerSeas(); }
 
 /// sum over the waves of A k (the height's Lipschitz bound at rest, 1).
 double amplitudeSlope(const GerstnerWaves& waves) {
@@ -54,14 +39,7 @@ double amplitudeSlope(const GerstnerWaves& waves) {
 }
 
 TextureHydrostatics buildTexture(const Mesh& mesh, int resolution, const TextureHydrostaticsSettings& settings = {}) {
-  BakeSettings bake;
-  bake.width = bake.height = resolution;
-  const auto baked = bakeSurface(mesh, mesh.uv, bake);
-  REQUIRE(baked.ok());
-  const SurfaceTextures textures = evaluateSurface(*baked, mesh, mesh.uv);
-  auto body = TextureHydrostatics::build(*baked, textures, settings);
-  REQUIRE(body.ok());
-  return std::move(body).value();
+  return hydrotex::test::textureHydrostaticsOf(mesh, resolution, settings);
 }
 
 HydrostaticsResult run(const TextureHydrostatics& body, const LiquidSurface& surface, const HydrostaticsQuery& query,
