@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Zlib
-// HydrostaticsMethod::Auto: resolved at addBody by core's advisor to the exact path for a
+// bullet::HydrostaticsMethod::Auto: resolved at addBody by core's advisor to the exact path for a
 // low-poly body and to the texture path for a high-poly one under a loose target; the report says
 // which; the scene key and the settings' target are checked.
 
 #include <catch2/catch.hpp>
 
-#include "../../plugin/src/MethodChoice.hpp"  // private to the plugin, for its bounds
 #include "PluginTestWorld.hpp"
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/hydrostatics/Advisor.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
@@ -20,22 +20,22 @@ TEST_CASE("method auto: the advisor picks the exact path for a low-poly body, th
   TestWorld world;
   // A 12-triangle box: the exact path answers in well under a microsecond, far under the texture
   // path at 64^2 (README: 3.8 us), whatever the texture's error.
-  FloatingBodySettings box = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  FloatingBodySettings box = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
   btRigidBody* low = world.add(primitives::box({1.0, 0.5, 1.0}), box, btVector3(0, 0, 0));
   REQUIRE(low != nullptr);
-  CHECK(world.controller().report(low)->method == HydrostaticsMethod::Polyhedral);
+  CHECK(world.controller().report(low)->method == bullet::HydrostaticsMethod::Polyhedral);
   // A 32k-triangle sphere under a 1e-2 target: the texture path at 64^2 meets it (its error is
   // about 3e-4, README) at a small fraction of the exact path's time (about 40 times less).
-  FloatingBodySettings sphere = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  FloatingBodySettings sphere = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
   sphere.autoMethodError = 1e-2;
   btRigidBody* high = world.add(primitives::uvSphere(0.5, 256, 64), sphere, btVector3(5, 0, 0));
   REQUIRE(high != nullptr);
-  CHECK(world.controller().report(high)->method == HydrostaticsMethod::Texture);
+  CHECK(world.controller().report(high)->method == bullet::HydrostaticsMethod::Texture);
   // Explicit methods are reported as given.
-  btRigidBody* given = world.add(primitives::box({1.0, 0.5, 1.0}), solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Texture),
+  btRigidBody* given = world.add(primitives::box({1.0, 0.5, 1.0}), solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Texture),
                                  btVector3(-5, 0, 0));
   REQUIRE(given != nullptr);
-  CHECK(world.controller().report(given)->method == HydrostaticsMethod::Texture);
+  CHECK(world.controller().report(given)->method == bullet::HydrostaticsMethod::Texture);
   for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
   CHECK(world.controller().statistics().failedQueries == 0);
 }
@@ -53,13 +53,13 @@ TEST_CASE("method auto under waves: the exact path only where its linearization 
   REQUIRE(surfaceCurvatureBound(*logWaves).has_value());
   CHECK(*surfaceCurvatureBound(*logWaves) == Approx(0.2400 / (0.8587 * 0.8587)).epsilon(2e-3));
   CHECK(exactLinearizationError(box, 0.5, *logWaves) == Approx(0.325 * 2.0 / 8.0 * 1.0 / 0.5).epsilon(3e-3));
-  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
   settings.autoMethodError = 1e-3;
   {
     TestWorld world(logWaves);
     btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
     REQUIRE(body != nullptr);
-    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+    CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Texture);
   }
   // A long low swell (100 m, 5 cm): curvature 2e-4 1/m, the linearization within 1e-4 of the
   // volume: the advisor's choice stands, the exact path for 12 triangles.
@@ -70,7 +70,7 @@ TEST_CASE("method auto under waves: the exact path only where its linearization 
     TestWorld world(swell);
     btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
     REQUIRE(body != nullptr);
-    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Polyhedral);
+    CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Polyhedral);
   }
   // A height grid has no curvature bound: the texture path.
   const auto grid = std::make_shared<HeightGrid>(8, 8, 1.0, -4.0, -4.0, 0.0, 1000.0);
@@ -79,12 +79,12 @@ TEST_CASE("method auto under waves: the exact path only where its linearization 
     TestWorld world(grid);
     btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
     REQUIRE(body != nullptr);
-    CHECK(world.controller().report(body)->method == HydrostaticsMethod::Texture);
+    CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Texture);
   }
 }
 
 TEST_CASE("method auto: its target is checked, and scenes take \"auto\"", "[floating][method][auto][scene]") {
-  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, HydrostaticsMethod::Auto);
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
   settings.mesh = std::make_shared<const Mesh>(primitives::box({1.0, 1.0, 1.0}));
   CHECK(settings.validate().ok());
   settings.autoMethodError = 0.0;
@@ -97,7 +97,7 @@ TEST_CASE("method auto: its target is checked, and scenes take \"auto\"", "[floa
   };
   auto scene = parse(R"("method": "auto", "auto_method_error": 1e-3)");
   REQUIRE(scene.ok());
-  CHECK(scene->bodies[0].method == HydrostaticsMethod::Auto);
+  CHECK(scene->bodies[0].method == bullet::HydrostaticsMethod::Auto);
   CHECK(scene->bodies[0].autoMethodError == 1e-3);
   CHECK(parse(R"("method": "auto")")->bodies[0].autoMethodError == 1e-4);
   auto bad = parse(R"("method": "fastest")");

@@ -222,4 +222,39 @@ Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const 
   return advice;
 }
 
+std::optional<double> surfaceCurvatureBound(const LiquidSurface& surface) {
+  if (surface.flatHeight() || !surface.hasFreeSurface()) return 0.0;
+  if (const auto* waves = dynamic_cast<const GerstnerWaves*>(&surface)) {
+    // Per wave, at a crest: d2y/dx2 = -A k^2 / (1 - Q A k)^2 (x = x0 - Q A sin k x0, y = A cos k x0);
+    // summed with the smallest squeeze of all waves together.
+    double curvature = 0.0, squeeze = 0.0;
+    for (const GerstnerWaves::Component& c : waves->components()) {
+      curvature += c.amplitude * c.waveNumber * c.waveNumber;
+      squeeze += c.steepness * c.amplitude * c.waveNumber;
+    }
+    if (!(squeeze < 1.0)) return std::nullopt;  // crests may loop: no bound
+    return curvature / ((1.0 - squeeze) * (1.0 - squeeze));
+  }
+  return std::nullopt;
+}
+
+double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurface& surface) {
+  const std::optional<double> curvature = surfaceCurvatureBound(surface);
+  if (!curvature) return std::numeric_limits<double>::infinity();
+  if (*curvature == 0.0) return 0.0;
+  if (mesh.positions.empty() || !(volume > 0.0)) return std::numeric_limits<double>::infinity();
+  double longest = 0.0;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).squaredNorm());
+  Eigen::Vector3d lower = mesh.positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : mesh.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  const Eigen::Vector3d e = upper - lower;
+  const double largestFace = std::max({e.x() * e.y(), e.y() * e.z(), e.x() * e.z()});
+  return *curvature * longest / 8.0 * largestFace / volume;
+}
+
 }  // namespace hydrotex

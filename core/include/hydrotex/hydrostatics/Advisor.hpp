@@ -9,11 +9,13 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
@@ -139,5 +141,18 @@ struct Advice {
 /// Errors: a target that is not positive and finite, an open or empty mesh, a resolution out of
 /// range, an invalid sampling.
 Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const AdvisorSettings& settings = {});
+
+/// An upper bound of |d2 h / ds2| (1/m) of `surface`'s height over every point and direction: 0
+/// for a flat surface or a medium, sum A k^2 / (1 - sum Q k A)^2 for Gerstner waves (the
+/// trochoid's curvature at its crests, where the horizontal squeeze 1 - Q k A is smallest);
+/// empty when unknown (height grids and other surfaces: their kinks have no bound).
+std::optional<double> surfaceCurvatureBound(const LiquidSurface& surface);
+
+/// Relative volume error (of the body's volume) that the exact path's linearization of `surface`
+/// between the mesh's vertices may make: M2 e^2 / 8 (the largest height error of the linear
+/// interpolant over an edge of length e, M2 = surfaceCurvatureBound) times the body's largest
+/// bounding-box face (a bound of its water-plane area), over its volume. 0 under a flat surface
+/// or a medium; +infinity when the curvature is unknown.
+double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurface& surface);
 
 }  // namespace hydrotex
