@@ -218,11 +218,11 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
       const auto turn = [&rotation](int row, const Pair& x, const Pair& y, const Pair& z) {
         return Pair(rotation(row, 0)) * x + Pair(rotation(row, 1)) * y + Pair(rotation(row, 2)) * z;
       };
-      // In chunks of up to four pairs, in two passes: the posing (to the normals' square root and
+      // In chunks of up to eight pairs, in two passes: the posing (to the normals' square root and
       // division), then the law (to the friction's square root). Each pass's iterations are
       // short and independent, so the processor overlaps their long latencies; one pass per
       // pair would leave them in series.
-      constexpr int kChunk = 4;
+      constexpr int kChunk = 8;
       struct Posed {
         Pair r[3], u[3], n[3], projected, frictionArea, wet, area;
       };

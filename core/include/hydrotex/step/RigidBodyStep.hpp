@@ -63,7 +63,7 @@ struct DragPatchSet {
 };
 
 /// The patches laid out for rigidBodyDrag, in clusters of at most `clusterSize` (>= 1) patches.
-DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t clusterSize = 8);
+DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t clusterSize = 16);
 
 /// A body's drag model: its patches (mergeTexelsIntoDragPatches, body = mesh frame) and coefficients.
 struct DragBody {
