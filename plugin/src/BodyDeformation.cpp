@@ -176,6 +176,7 @@ void BuoyancyController::deform(FloatingBody& floating) {
                                    settings.dragPatchRadiusFraction * floating.referenceLength));
     floating.totalDragPatchArea = 0.0;
     for (const DragPatch& patch : *floating.dragPatches) floating.totalDragPatchArea += patch.area;
+    floating.dragPatchSet = std::make_shared<const DragPatchSet>(prepareDragPatches(*floating.dragPatches));
   }
   Eigen::Vector3d lower = positions.front(), upper = lower;
   for (const Eigen::Vector3d& p : positions) {

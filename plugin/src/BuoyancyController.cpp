@@ -243,6 +243,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (shared) {
     floating->model = shared;
     floating->dragPatches = shared->dragPatches;
+    floating->dragPatchSet = shared->dragPatchSet;
     floating->totalDragPatchArea = shared->totalDragPatchArea;
   } else if (needsBake) {
     BodyGeometrySettings geometrySettings;
@@ -261,6 +262,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->dragPatches = std::make_shared<const std::vector<DragPatch>>(mergeTexelsIntoDragPatches(
           geometry->bake, geometry->textures, settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction * referenceLength));
       for (const DragPatch& patch : *floating->dragPatches) floating->totalDragPatchArea += patch.area;
+      floating->dragPatchSet = std::make_shared<const DragPatchSet>(prepareDragPatches(*floating->dragPatches));
     }
     if (wantsMassModel) {
       // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.
@@ -398,6 +400,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   std::size_t bytes = 0;
   if (!shared) {
     if (registered.dragPatches) bytes += registered.dragPatches->capacity() * sizeof(DragPatch);
+    if (registered.dragPatchSet) bytes += registered.dragPatchSet->memoryBytes();
     if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
   }
   registered.report.effectMemoryBytes = bytes;
@@ -409,6 +412,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     model->backendBody = registered.backendBody;
     model->backendTexels = registered.backendTexels;
     model->dragPatches = registered.dragPatches;
+    model->dragPatchSet = registered.dragPatchSet;
     model->totalDragPatchArea = registered.totalDragPatchArea;
     registered.model = model;
     models_[key] = model;
@@ -746,6 +750,7 @@ void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
   DragBody dragBody;
   if (effects.has(Effect::Drag)) {
     dragBody.patches = *floating.dragPatches;
+    dragBody.prepared = floating.dragPatchSet.get();
     dragBody.totalPatchArea = floating.totalDragPatchArea;
     dragBody.referenceLength = floating.referenceLength;
     dragBody.coefficients = settings.drag;

@@ -15,6 +15,7 @@
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/bake/SurfaceEvaluator.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/step/RigidBodyStep.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 #include "hydrotex/wetting/Wetting.hpp"
 #include "DeformedCollision.hpp"
@@ -59,6 +60,7 @@ struct SharedBodyModel {
   std::optional<BackendBodyId> backendBody;                  ///< the first body's texels, to instance
   std::size_t backendTexels = 0;                             ///< covered texels there
   std::shared_ptr<const std::vector<DragPatch>> dragPatches; ///< when drag is listed
+  std::shared_ptr<const DragPatchSet> dragPatchSet;          ///< prepareDragPatches(*dragPatches)
   double totalDragPatchArea = 0.0;                           ///< m^2
 };
 
@@ -96,6 +98,7 @@ struct FloatingBody {
   std::optional<BackendBodyId> backendBody;     ///< its id in the controller's backend (HydrostaticsMethod::Texture)
   std::size_t backendTexels = 0;                ///< covered texels registered there
   std::shared_ptr<const std::vector<DragPatch>> dragPatches;  ///< only when Effect::Drag is listed (shared by a model)
+  std::shared_ptr<const DragPatchSet> dragPatchSet;           ///< prepareDragPatches(*dragPatches), for the drag sum
   std::shared_ptr<const SharedBodyModel> model; ///< what it shares with bodies of its mesh and settings, or null
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned

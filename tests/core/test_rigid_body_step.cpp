@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Zlib
 // The phased step's laws (RigidBodyStep.hpp) against closed forms: the implicit velocity update
 // with and without stiffness, its energy behaviour, the drag sum over patches with the waterline
-// rule, the implicit drag that slows but never reverses, and the body's skin friction.
+// rule, the implicit drag that slows but never reverses, the body's skin friction, and the prepared
+// patches (DragPatchSet) that give the patch-by-patch sum.
 
 #include <catch2/catch.hpp>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -277,4 +279,83 @@ TEST_CASE("flooding keeps the momentum of the liquid that enters and leaves", "[
   // No change of mass, or none left: no correction.
   CHECK(floodingVelocityCorrection(kept, liquid, massBefore, massBefore, rho, 0.0, 0.0).isZero(0.0));
   CHECK(floodingVelocityCorrection(kept, liquid, massBefore, 0.0, rho, inflow, outflow).isZero(0.0));
+
+TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipped", "[step][drag]") {
+  const FlatSurface water(0.3, 1000.0);
+  // A ring of patches around a tilted, spinning body cut by the waterline: some clusters dry,
+  // some wet, some cut.
+  std::vector<DragPatch> patches;
+  for (int i = 0; i < 97; ++i) {
+    const double a = 0.37 * i, b = 0.11 * i;
+    DragPatch patch;
+    patch.position = Eigen::Vector3f(float(std::cos(a)), float(std::sin(b) * 1.5), float(std::sin(a) * 0.6));
+    patch.areaVector = Eigen::Vector3f(float(0.02 * std::cos(a)), float(0.01 * std::sin(b)), float(0.02 * std::sin(a)));
+    patch.area = float(1.1 * patch.areaVector.norm());
+    patch.radius = 0.05f + 0.001f * float(i % 7);
+    patches.push_back(patch);
+  }
+  patches[5].areaVector.setZero();  // no projected area: wetted, no force
+  DragBody body;
+  body.patches = patches;
+  for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
+  body.referenceLength = 2.0;
+  body.rotationalDamping = 0.1;
+  RigidBodyMotion motion = cube(800.0);
+  motion.meshPose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  motion.meshPose.translation = {12.0, 0.1, -7.0};
+  motion.center = motion.meshPose.translation + motion.meshPose.rotation * Eigen::Vector3d(0.05, -0.1, 0.02);
+  motion.linearVelocity = {0.7, -0.3, 0.2};
+  motion.angularVelocity = {0.5, 1.2, -0.8};
+  const DragLiquid liquid{&water, Eigen::Vector3d::Zero(), 1e-3, 0.0};
+  const double dt = 1.0 / 60.0;
+  const DragLoads unprepared = rigidBodyDrag(body, motion, liquid, dt);
+  CHECK(unprepared.patchesVisited > 0);
+  CHECK(unprepared.patchesVisited < patches.size());
+  // The reference: every patch posed in the world, the public law, the wet ramp.
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  std::uint64_t visited = 0;
+  const double friction = bodySkinFriction(1000.0, motion.linearVelocity.norm(), 2.0, 1e-3, body.coefficients);
+  for (const DragPatch& patch : patches) {
+    const Eigen::Vector3d p = motion.meshPose.apply(patch.position.cast<double>());
+    const double wet = patchWetFraction(0.3 - p.y(), patch.radius);
+    if (wet <= 0.0) continue;
+    ++visited;
+    const Eigen::Vector3d r = p - motion.center;
+    const Eigen::Vector3d f = wet * texelDragForceWithFriction(motion.meshPose.rotation * patch.areaVector.cast<double>(),
+                                                               patch.area, motion.linearVelocity + motion.angularVelocity.cross(r),
+                                                               1000.0, friction, body.coefficients);
+    force += f;
+    torque += r.cross(f);
+  }
+  CHECK(unprepared.patchesVisited == visited);
+  CHECK((unprepared.force - force).norm() <= 1e-12 * force.norm());
+  torque -= body.rotationalDamping * (unprepared.wettedArea / body.totalPatchArea) * (motion.inertiaWorld * motion.angularVelocity);
+  CHECK((unprepared.torque - torque).norm() <= 1e-12 * force.norm());
+  for (std::size_t clusterSize : {std::size_t(1), std::size_t(3), std::size_t(16), std::size_t(1000)}) {
+    CAPTURE(clusterSize);
+    const DragPatchSet set = prepareDragPatches(patches, clusterSize);
+    CHECK(set.size() == patches.size());
+    CHECK(set.clusters.size() >= (patches.size() + clusterSize - 1) / clusterSize);
+    std::size_t covered = 0;
+    for (const DragPatchSet::Cluster& cluster : set.clusters) {
+      CHECK(cluster.begin == covered);
+      CHECK(cluster.end - cluster.begin <= clusterSize);
+      covered = cluster.end;
+    }
+    CHECK(covered == patches.size());
+    body.prepared = &set;
+    const DragLoads prepared = rigidBodyDrag(body, motion, liquid, dt);
+    // The same patches summed in the clusters' order: the sums to rounding.
+    CHECK(prepared.patchesVisited == unprepared.patchesVisited);
+    CHECK((prepared.force - force).norm() <= 1e-12 * force.norm());
+    CHECK((prepared.torque - torque).norm() <= 1e-12 * force.norm());
+    CHECK(prepared.wettedArea == Approx(unprepared.wettedArea).epsilon(1e-12));
+  }
+  // The default clusters, given or made for the call: the same sums, to the last bit.
+  const DragPatchSet set = prepareDragPatches(patches);
+  body.prepared = &set;
+  const DragLoads given = rigidBodyDrag(body, motion, liquid, dt);
+  CHECK(given.force == unprepared.force);
+  CHECK(given.torque == unprepared.torque);
+  CHECK(given.damping == unprepared.damping);
 }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hydrostatics/TexelDragLaw.hpp"
+
 namespace hydrotex {
 
 double skinFrictionCoefficient(double reynolds) {
@@ -19,23 +21,7 @@ double skinFrictionCoefficient(double reynolds) {
 Eigen::Vector3d texelDragForceWithFriction(const Eigen::Vector3d& areaVector, double area,
                                            const Eigen::Vector3d& relativeVelocity, double density,
                                            double frictionCoefficient, const DragCoefficients& coefficients) {
-  const double projectedArea = areaVector.norm();
-  if (!(projectedArea > 0.0) || !(density > 0.0)) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d normal = areaVector / projectedArea;
-  const double normalSpeed = relativeVelocity.dot(normal);
-  // Quadratic pressure drag per face, as in the per-triangle drag of Kerner ("Water interaction
-  // model for boats in video games", Gamasutra 2015) and Hoerner's Fluid-Dynamic Drag, with a
-  // linear term for radiation damping (Faltinsen, Sea Loads on Ships and Offshore Structures, ch. 3).
-  const double quadratic = normalSpeed > 0.0 ? coefficients.advancingPressure : coefficients.retreatingPressure;
-  const double pressure = density * (0.5 * quadratic * std::abs(normalSpeed) * normalSpeed +
-                                     coefficients.linearPressureVelocity * normalSpeed);
-  Eigen::Vector3d force = -pressure * projectedArea * normal;
-  if (frictionCoefficient > 0.0) {
-    // Flat-plate skin friction on the tangential velocity: tau = rho/2 Cf |v_t| v_t.
-    const Eigen::Vector3d tangential = relativeVelocity - normalSpeed * normal;
-    force -= 0.5 * density * frictionCoefficient * tangential.norm() * std::max(area, projectedArea) * tangential;
-  }
-  return force;
+  return detail::texelDragLaw(areaVector, area, relativeVelocity, density, frictionCoefficient, coefficients);
 }
 
 Eigen::Vector3d texelDragForce(const Eigen::Vector3d& areaVector, double area, const Eigen::Vector3d& relativeVelocity,

@@ -12,6 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
+#include <vector>
+
+#include "hydrostatics/TexelDragLaw.hpp"
 
 namespace hydrotex {
 namespace {
@@ -59,9 +63,12 @@ Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
 
 }  // namespace
 
-double patchWetFraction(double depth, double radius) {
+/// patchWetFraction's rule, inline for the drag sum (the exported function is reached through the PLT).
+inline double wetFractionOf(double depth, double radius) {
   return std::clamp(0.5 + 0.5 * depth / std::max(radius, 1e-9), 0.0, 1.0);
 }
+
+double patchWetFraction(double depth, double radius) { return wetFractionOf(depth, radius); }
 
 double bodySkinFriction(double density, double relativeSpeed, double referenceLength, double viscosity,
                         const DragCoefficients& coefficients) {
@@ -70,40 +77,238 @@ double bodySkinFriction(double density, double relativeSpeed, double referenceLe
   return coefficients.skinFrictionScale * skinFrictionCoefficient(reynolds);
 }
 
+std::size_t DragPatchSet::memoryBytes() const {
+  return (x.capacity() + y.capacity() + z.capacity() + ax.capacity() + ay.capacity() + az.capacity() + area.capacity() +
+          radius.capacity()) * sizeof(float) +
+         inverseRadius.capacity() * sizeof(double) + clusters.capacity() * sizeof(Cluster);
+}
+
+DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t clusterSize) {
+  DragPatchSet set;
+  const std::size_t count = patches.size();
+  clusterSize = std::max<std::size_t>(clusterSize, 1);
+  // Clusters by space and facing: the patches split in halves across the longest side of their
+  // bounds in (position, normal x the body's size) until a part holds at most clusterSize, so that
+  // faces part first (one face tends to lie wholly above or below the waterline) and then each
+  // face's patches by place. (The merge's order jumps across the atlas: consecutive patches lie
+  // anywhere on the body.) Deterministic: the split only reads the patches.
+  std::vector<std::uint32_t> order(count);
+  for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
+  Eigen::Vector3f lowest = Eigen::Vector3f::Zero(), highest = Eigen::Vector3f::Zero();
+  for (std::size_t i = 0; i < count; ++i) {
+    lowest = i == 0 ? patches[i].position : lowest.cwiseMin(patches[i].position);
+    highest = i == 0 ? patches[i].position : highest.cwiseMax(patches[i].position);
+  }
+  const float size = (highest - lowest).maxCoeff();
+  std::vector<Eigen::Matrix<float, 6, 1>> key(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const float norm = patches[i].areaVector.norm();
+    key[i].head<3>() = patches[i].position;
+    key[i].tail<3>() = norm > 0.0f ? Eigen::Vector3f(size * patches[i].areaVector / norm) : Eigen::Vector3f::Zero();
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> parts;
+  const auto split = [&](auto& self, std::uint32_t begin, std::uint32_t end) -> void {
+    if (end - begin <= clusterSize) {
+      if (end > begin) parts.emplace_back(begin, end);
+      return;
+    }
+    Eigen::Matrix<float, 6, 1> lower = key[order[begin]], upper = lower;
+    for (std::uint32_t k = begin; k < end; ++k) {
+      lower = lower.cwiseMin(key[order[k]]);
+      upper = upper.cwiseMax(key[order[k]]);
+    }
+    int axis = 0;
+    (upper - lower).maxCoeff(&axis);
+    const std::uint32_t middle = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
+                     [&](std::uint32_t l, std::uint32_t r) {
+                       const float kl = key[l][axis], kr = key[r][axis];
+                       return kl < kr || (kl == kr && l < r);
+                     });
+    self(self, begin, middle);
+    self(self, middle, end);
+  };
+  split(split, 0, std::uint32_t(count));
+  for (std::vector<float>* column : {&set.x, &set.y, &set.z, &set.ax, &set.ay, &set.az, &set.area, &set.radius})
+    column->resize(count);
+  set.inverseRadius.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const DragPatch& patch = patches[order[i]];
+    set.x[i] = patch.position.x();
+    set.y[i] = patch.position.y();
+    set.z[i] = patch.position.z();
+    set.ax[i] = patch.areaVector.x();
+    set.ay[i] = patch.areaVector.y();
+    set.az[i] = patch.areaVector.z();
+    set.area[i] = patch.area;
+    set.radius[i] = patch.radius;
+    set.inverseRadius[i] = 1.0 / std::max(double(patch.radius), 1e-9);
+  }
+  for (const auto& [begin, end] : parts) {
+    DragPatchSet::Cluster cluster;
+    cluster.begin = begin;
+    cluster.end = end;
+    const auto at = [&](std::uint32_t i) { return Eigen::Vector3d(set.x[i], set.y[i], set.z[i]); };
+    for (std::uint32_t i = begin; i < end; ++i) cluster.center += at(i);
+    cluster.center /= double(end - begin);
+    for (std::uint32_t i = begin; i < end; ++i) {
+      // A patch is dry while its centre lies max(radius, 1e-9) above the surface, and wholly wet
+      // while it lies as deep (wetFractionOf).
+      const double reach = (at(i) - cluster.center).norm() + std::max(double(set.radius[i]), 1e-9);
+      cluster.radius = std::max(cluster.radius, reach);
+    }
+    // A margin far above the rounding of the heights compared (m-scale values, 1e-16 relative).
+    cluster.radius = cluster.radius * (1.0 + 1e-9) + 1e-9;
+    set.clusters.push_back(cluster);
+  }
+  return set;
+}
+
 DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid, double dt) {
   DragLoads out;
   const LiquidSurface& surface = *liquid.surface;
   const Eigen::Matrix3d& rotation = motion.meshPose.rotation;
+  const Eigen::Vector3d& translation = motion.meshPose.translation;
   const Eigen::Vector3d& center = motion.center;
   const Eigen::Vector3d& v = motion.linearVelocity;
   const Eigen::Vector3d& w = motion.angularVelocity;
   out.liquidVelocityAtCenter = liquid.current + surface.velocity(center, liquid.time);
-  // A still, flat, uniform liquid needs no per-patch surface, velocity or density calls.
+  // Per-body constants, once: a still, flat, uniform liquid needs no per-patch surface, velocity
+  // or density calls.
   const double density = surface.density();
-  const bool still = surface.flatHeight().has_value() && liquid.current.isZero();
   const std::optional<double> flatLevel = surface.flatHeight();
+  const bool still = flatLevel.has_value() && liquid.current.isZero();
   const bool freeSurface = surface.hasFreeSurface();
   const double friction = bodySkinFriction(density, (v - out.liquidVelocityAtCenter).norm(), body.referenceLength,
                                            liquid.viscosity, body.coefficients);
-  for (const DragPatch& patch : body.patches) {
-    const Eigen::Vector3d p = rotation * patch.position.cast<double>() + motion.meshPose.translation;
-    double wetFraction = 1.0;
-    if (freeSurface) {
-      const double level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), liquid.time);
-      wetFraction = patchWetFraction(level - p.y(), double(patch.radius));
-      if (wetFraction <= 0.0) continue;
+  // The patches as a structure of arrays in clusters (the model's set, or one for this call).
+  std::optional<DragPatchSet> local;
+  if (body.prepared == nullptr) local = prepareDragPatches(body.patches);
+  const DragPatchSet& set = body.prepared != nullptr ? *body.prepared : *local;
+  // Each patch is posed in the world, as the engine's rotation gives it: that rotation comes from
+  // single precision and is orthogonal only to about 1e-7, so the sum in the mesh frame (R^T for
+  // R^-1) moves a resting body's small residual torques by that much, which a body balanced on
+  // its contacts (test_scene_world's clay pot) turns into a walk of millimetres.
+  const Eigen::Vector3d up = rotation.row(1).transpose();  // world height of a mesh point: up . p + t_y
+  const double upReach = std::max(1.0, up.norm());         // |up . (p - c)| <= upReach |p - c|
+  const bool flat = flatLevel.has_value() && freeSurface;  // dry clusters skipped by their sphere
+  const bool uniform = still && freeSurface;               // the fast path: flat level, no per-patch calls
+  const double levelAboveOrigin = flatLevel ? *flatLevel - translation.y() : 0.0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  double wettedArea = 0.0;
+  std::uint64_t visited = 0;
+#ifdef HYDROTEX_DOUBLE_LANES
+  // Lane sums of the patches taken in pairs (one SSE2 register each): force, torque, wetted area.
+  using Pair = detail::DoubleLanes;
+  Pair pairForce[3] = {0.0, 0.0, 0.0}, pairTorque[3] = {0.0, 0.0, 0.0}, pairWetted = 0.0;
+  const double flatSurfaceLevel = flatLevel.value_or(0.0);
+#endif
+  for (const DragPatchSet::Cluster& cluster : set.clusters) {
+    const double clusterDepth = flat ? levelAboveOrigin - up.dot(cluster.center) : 0.0;
+    if (flat && clusterDepth < -upReach * cluster.radius) continue;  // wholly dry
+    const bool whollyWet = uniform && clusterDepth > upReach * cluster.radius;  // every patch's ramp at 1
+    std::uint32_t i = cluster.begin;
+#ifdef HYDROTEX_DOUBLE_LANES
+    if (uniform && density > 0.0) {
+      // Two patches at a time, lane by lane the scalar path's operations (the law is
+      // detail::dragLawLanes for both). A dry lane (ramp 0) and a lane without projected area
+      // (normal and areas 0) add exact zeros, as the scalar path's skips.
+      const auto floats = [&i](const std::vector<float>& column) {
+        return Pair(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(column.data() + i)))));
+      };
+      const auto turn = [&rotation](int row, const Pair& x, const Pair& y, const Pair& z) {
+        return Pair(rotation(row, 0)) * x + Pair(rotation(row, 1)) * y + Pair(rotation(row, 2)) * z;
+      };
+      // In chunks of up to eight pairs, in two passes: the posing (to the normals' square root and
+      // division), then the law (to the friction's square root). Each pass's iterations are
+      // short and independent, so the processor overlaps their long latencies; one pass per
+      // pair would leave them in series.
+      constexpr int kChunk = 8;
+      struct Posed {
+        Pair r[3], u[3], n[3], projected, frictionArea, wet, area;
+      };
+      Posed posed[kChunk];
+      while (i + 1 < cluster.end) {
+        int count = 0;
+        for (; count < kChunk && i + 1 < cluster.end; i += 2) {
+          const Pair px = floats(set.x), py = floats(set.y), pz = floats(set.z);
+          const Pair p[3] = {turn(0, px, py, pz) + Pair(translation.x()), turn(1, px, py, pz) + Pair(translation.y()),
+                             turn(2, px, py, pz) + Pair(translation.z())};
+          Pair wet = 1.0;
+          if (!whollyWet) {
+            const Pair ramp = Pair(0.5) + Pair(0.5) * (Pair(flatSurfaceLevel) - p[1]) *
+                                              Pair(_mm_loadu_pd(set.inverseRadius.data() + i));
+            wet = Pair(_mm_min_pd(_mm_max_pd(ramp.v, _mm_setzero_pd()), _mm_set1_pd(1.0)));
+            const int wetLanes = _mm_movemask_pd(_mm_cmpgt_pd(wet.v, _mm_setzero_pd()));
+            if (wetLanes == 0) continue;
+            visited += std::uint64_t((wetLanes & 1) + (wetLanes >> 1));
+          } else {
+            visited += 2;
+          }
+          Posed& at = posed[count++];
+          at.wet = wet;
+          for (int k = 0; k < 3; ++k) at.r[k] = p[k] - Pair(center[k]);
+          at.u[0] = Pair(v.x()) + (Pair(w.y()) * at.r[2] - Pair(w.z()) * at.r[1]);
+          at.u[1] = Pair(v.y()) + (Pair(w.z()) * at.r[0] - Pair(w.x()) * at.r[2]);
+          at.u[2] = Pair(v.z()) + (Pair(w.x()) * at.r[1] - Pair(w.y()) * at.r[0]);
+          const Pair ax = floats(set.ax), ay = floats(set.ay), az = floats(set.az);
+          const Pair a[3] = {turn(0, ax, ay, az), turn(1, ax, ay, az), turn(2, ax, ay, az)};
+          at.projected = squareRoot(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+          // A lane without projected area: normal and areas 0 (no force, as the law's early zero).
+          const __m128d hasArea = _mm_cmpgt_pd(at.projected.v, _mm_setzero_pd());
+          const Pair safe(_mm_or_pd(_mm_and_pd(hasArea, at.projected.v), _mm_andnot_pd(hasArea, _mm_set1_pd(1.0))));
+          const Pair inverse = Pair(1.0) / safe;  // one division for the three components
+          for (int k = 0; k < 3; ++k) at.n[k] = a[k] * inverse;
+          at.area = floats(set.area);
+          at.frictionArea = Pair(_mm_and_pd(hasArea, _mm_max_pd(at.area.v, at.projected.v)));
+        }
+        for (int j = 0; j < count; ++j) {
+          const Posed& at = posed[j];
+          Pair f[3];
+          detail::dragLawLanes(at.n, at.projected, at.frictionArea, at.u, density, friction, body.coefficients, f);
+          for (int k = 0; k < 3; ++k) f[k] = at.wet * f[k];
+          for (int k = 0; k < 3; ++k) pairForce[k] += f[k];
+          pairTorque[0] += at.r[1] * f[2] - at.r[2] * f[1];
+          pairTorque[1] += at.r[2] * f[0] - at.r[0] * f[2];
+          pairTorque[2] += at.r[0] * f[1] - at.r[1] * f[0];
+          pairWetted += at.wet * at.area;
+        }
+      }
     }
-    ++out.patchesVisited;
-    const Eigen::Vector3d r = p - center;
-    const Eigen::Vector3d liquidVelocity = still ? liquid.current : Eigen::Vector3d(surface.velocity(p, liquid.time) + liquid.current);
-    const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
-    const Eigen::Vector3d force =
-        wetFraction * texelDragForceWithFriction(rotation * patch.areaVector.cast<double>(), double(patch.area), relative,
-                                                 freeSurface ? density : surface.densityAt(p), friction, body.coefficients);
-    out.force += force;
-    out.torque += r.cross(force);
-    out.wettedArea += wetFraction * double(patch.area);
+#endif
+    for (; i < cluster.end; ++i) {
+      const Eigen::Vector3d p = rotation * Eigen::Vector3d(double(set.x[i]), double(set.y[i]), double(set.z[i])) + translation;
+      double wetFraction = 1.0;
+      if (freeSurface && !whollyWet) {
+        const double level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), liquid.time);
+        wetFraction = wetFractionOf(level - p.y(), double(set.radius[i]));
+        if (wetFraction <= 0.0) continue;
+      }
+      ++visited;
+      const Eigen::Vector3d r = p - center;
+      const Eigen::Vector3d liquidVelocity =
+          still ? liquid.current : Eigen::Vector3d(surface.velocity(p, liquid.time) + liquid.current);
+      const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
+      const Eigen::Vector3d areaVector = rotation * Eigen::Vector3d(double(set.ax[i]), double(set.ay[i]), double(set.az[i]));
+      const Eigen::Vector3d patchForce =
+          wetFraction * detail::texelDragLaw(areaVector, double(set.area[i]), relative,
+                                             freeSurface ? density : surface.densityAt(p), friction, body.coefficients);
+      force += patchForce;
+      torque += r.cross(patchForce);
+      wettedArea += wetFraction * double(set.area[i]);
+    }
   }
+#ifdef HYDROTEX_DOUBLE_LANES
+  for (int k = 0; k < 3; ++k) {
+    force[k] += pairForce[k].sum();
+    torque[k] += pairTorque[k].sum();
+  }
+  wettedArea += pairWetted.sum();
+#endif
+  out.force = force;
+  out.torque = torque;
+  out.patchesVisited = visited;
+  out.wettedArea = wettedArea;
   if (body.totalPatchArea > 0.0 && body.rotationalDamping > 0.0) {
     const double wetted = out.wettedArea / body.totalPatchArea;
     out.torque -= body.rotationalDamping * wetted * (motion.inertiaWorld * w);

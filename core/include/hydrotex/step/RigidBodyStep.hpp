@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -39,9 +40,40 @@ struct DragLiquid {
   double time = 0.0;                                    ///< s, passed to the surface
 };
 
+/// A body's drag patches laid out for rigidBodyDrag's sum (prepareDragPatches), kept with its model:
+/// a structure of arrays (the sum takes two patches at a time in SSE2 lanes), in clusters of nearby
+/// patches of one facing (split across the longest side of their bounds in position and normal)
+/// with a bounding sphere that holds every patch's sphere, so that a cluster wholly above a flat
+/// surface is skipped in O(1), as the buoyancy's tiles are, and one wholly under it skips the
+/// patches' wet ramps. A wet cluster still visits each of its patches: the quadratic law has no
+/// closed-form sum over them. The patches are stored in the clusters' order, which the sums follow.
+struct DragPatchSet {
+  /// Patches [begin, end) (of this set's order) within `radius` (m) of `center` (mesh frame), each
+  /// with its own radius: none of them is wet while the centre lies more than `radius` above the
+  /// surface, and all are wholly wet while it lies more than `radius` below.
+  struct Cluster {
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    double radius = 0.0;
+    std::uint32_t begin = 0, end = 0;
+  };
+  std::vector<float> x, y, z;               ///< centroid (m, mesh frame), as DragPatch::position
+  std::vector<float> ax, ay, az;            ///< area vector (m^2, mesh frame), as DragPatch::areaVector
+  std::vector<float> area, radius;          ///< m^2 and m, as DragPatch
+  std::vector<double> inverseRadius;        ///< 1 / max(radius, 1e-9) (1/m): the wet ramp's slope, once
+  std::vector<Cluster> clusters;            ///< covering every patch once, in order
+  std::size_t size() const { return x.size(); }
+  std::size_t memoryBytes() const;          ///< heap held
+};
+
+/// The patches laid out for rigidBodyDrag, in clusters of at most `clusterSize` (>= 1) patches.
+DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t clusterSize = 16);
+
 /// A body's drag model: its patches (mergeTexelsIntoDragPatches, body = mesh frame) and coefficients.
 struct DragBody {
   std::span<const DragPatch> patches;                   ///< mesh frame
+  /// prepareDragPatches(patches), made once with the patches (a model's, shared by its bodies); null:
+  /// rigidBodyDrag prepares them for the call (an allocation and a pass, the per-patch work it saves).
+  const DragPatchSet* prepared = nullptr;
   double totalPatchArea = 0.0;                          ///< m^2, sum of the patches' areas
   double referenceLength = 1.0;                         ///< m, the Reynolds number's length (> 0)
   DragCoefficients coefficients;                        ///< per-element law

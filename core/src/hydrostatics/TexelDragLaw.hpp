@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file TexelDragLaw.hpp
+/// The per-element drag law of TexelDrag.hpp (texelDragForceWithFriction), inline: the one
+/// definition behind the exported function and the rigid body's drag sum (RigidBodyStep.cpp),
+/// which calls it once per wet patch and so must not pay a call through the library's PLT.
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
+
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+
+namespace hydrotex::detail {
+
+/// What the law needs of its number type, for one element (double) or two at once (DoubleLanes,
+/// one SSE2 register: the rigid body's drag sum takes its patches in pairs).
+inline double selectPositive(double x, double positive, double otherwise) { return x > 0.0 ? positive : otherwise; }
+inline double absolute(double x) { return std::abs(x); }
+inline double squareRoot(double x) { return std::sqrt(x); }
+
+#if defined(__SSE2__) || defined(_M_X64)
+/// Two doubles in one SSE2 register, with the arithmetic the law uses (each operation lane by lane,
+/// as the scalar one: the same rounding).
+struct DoubleLanes {
+  __m128d v;
+  DoubleLanes() = default;
+  explicit DoubleLanes(__m128d lanes) : v(lanes) {}
+  DoubleLanes(double both) : v(_mm_set1_pd(both)) {}  // NOLINT: scalars mix in as in the scalar law
+  double sum() const { return _mm_cvtsd_f64(_mm_add_sd(v, _mm_unpackhi_pd(v, v))); }
+};
+inline DoubleLanes operator+(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_add_pd(a.v, b.v)); }
+inline DoubleLanes operator-(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_sub_pd(a.v, b.v)); }
+inline DoubleLanes operator*(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_mul_pd(a.v, b.v)); }
+inline DoubleLanes operator/(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_div_pd(a.v, b.v)); }
+inline DoubleLanes operator-(DoubleLanes a) { return DoubleLanes(_mm_xor_pd(a.v, _mm_set1_pd(-0.0))); }
+inline DoubleLanes& operator+=(DoubleLanes& a, DoubleLanes b) { return a = a + b; }
+inline DoubleLanes& operator-=(DoubleLanes& a, DoubleLanes b) { return a = a - b; }
+inline DoubleLanes selectPositive(DoubleLanes x, double positive, double otherwise) {
+  const __m128d mask = _mm_cmpgt_pd(x.v, _mm_setzero_pd());
+  return DoubleLanes(_mm_or_pd(_mm_and_pd(mask, _mm_set1_pd(positive)), _mm_andnot_pd(mask, _mm_set1_pd(otherwise))));
+}
+inline DoubleLanes absolute(DoubleLanes x) { return DoubleLanes(_mm_andnot_pd(_mm_set1_pd(-0.0), x.v)); }
+inline DoubleLanes squareRoot(DoubleLanes x) { return DoubleLanes(_mm_sqrt_pd(x.v)); }
+#define HYDROTEX_DOUBLE_LANES 1
+#endif
+
+/// The law, by components, on elements whose unit normal `normal`, projected area |A| =
+/// `projectedArea` and friction area max(area, |A|) = `frictionArea` are known (a prepared patch,
+/// DragPatchSet), moving at `velocity` relative to liquid of `density` (> 0): `force` (N). T is
+/// double or DoubleLanes (two elements, lane by lane, the same operations in the same order).
+template <class T>
+inline void dragLawLanes(const T (&normal)[3], const T& projectedArea, const T& frictionArea, const T (&velocity)[3],
+                         double density, double frictionCoefficient, const DragCoefficients& coefficients, T (&force)[3]) {
+  const T normalSpeed = velocity[0] * normal[0] + velocity[1] * normal[1] + velocity[2] * normal[2];
+  // Quadratic pressure drag per face, as in the per-triangle drag of Kerner ("Water interaction
+  // model for boats in video games", Gamasutra 2015) and Hoerner's Fluid-Dynamic Drag, with a
+  // linear term for radiation damping (Faltinsen, Sea Loads on Ships and Offshore Structures, ch. 3).
+  const T quadratic = selectPositive(normalSpeed, coefficients.advancingPressure, coefficients.retreatingPressure);
+  const T pressure = density * (0.5 * quadratic * absolute(normalSpeed) * normalSpeed +
+                                coefficients.linearPressureVelocity * normalSpeed);
+  const T pressureArea = -pressure * projectedArea;
+  for (int k = 0; k < 3; ++k) force[k] = pressureArea * normal[k];
+  if (frictionCoefficient > 0.0) {
+    // Flat-plate skin friction on the tangential velocity: tau = rho/2 Cf |v_t| v_t.
+    T tangential[3];
+    for (int k = 0; k < 3; ++k) tangential[k] = velocity[k] - normalSpeed * normal[k];
+    const T speed = squareRoot(tangential[0] * tangential[0] + tangential[1] * tangential[1] + tangential[2] * tangential[2]);
+    const T scale = 0.5 * density * frictionCoefficient * speed * frictionArea;
+    for (int k = 0; k < 3; ++k) force[k] -= scale * tangential[k];
+  }
+}
+
+/// The law on one element of known unit normal, projected and friction areas (dragLawLanes).
+inline Eigen::Vector3d dragLawOnNormal(const Eigen::Vector3d& normal, double projectedArea, double frictionArea,
+                                       const Eigen::Vector3d& relativeVelocity, double density, double frictionCoefficient,
+                                       const DragCoefficients& coefficients) {
+  const double n[3] = {normal.x(), normal.y(), normal.z()};
+  const double u[3] = {relativeVelocity.x(), relativeVelocity.y(), relativeVelocity.z()};
+  double f[3];
+  dragLawLanes(n, projectedArea, frictionArea, u, density, frictionCoefficient, coefficients, f);
+  return {f[0], f[1], f[2]};
+}
+
+/// texelDragForceWithFriction: the law on the element's area vector.
+inline Eigen::Vector3d texelDragLaw(const Eigen::Vector3d& areaVector, double area, const Eigen::Vector3d& relativeVelocity,
+                                    double density, double frictionCoefficient, const DragCoefficients& coefficients) {
+  const double projectedArea = areaVector.norm();
+  if (!(projectedArea > 0.0) || !(density > 0.0)) return Eigen::Vector3d::Zero();
+  return dragLawOnNormal(areaVector / projectedArea, projectedArea, std::max(area, projectedArea), relativeVelocity,
+                         density, frictionCoefficient, coefficients);
+}
+
+}  // namespace hydrotex::detail
