@@ -279,6 +279,7 @@ TEST_CASE("flooding keeps the momentum of the liquid that enters and leaves", "[
   // No change of mass, or none left: no correction.
   CHECK(floodingVelocityCorrection(kept, liquid, massBefore, massBefore, rho, 0.0, 0.0).isZero(0.0));
   CHECK(floodingVelocityCorrection(kept, liquid, massBefore, 0.0, rho, inflow, outflow).isZero(0.0));
+}
 
 TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipped", "[step][drag]") {
   const FlatSurface water(0.3, 1000.0);
