@@ -100,8 +100,8 @@ void dispatchGroups(std::uint32_t groups) {
 }
 
 // A body's liquid texture on the GPU (GlWetting) behind the backend's door: the liquid is
-// uploaded at the first step and stays resident; each step copies it back into the texture, which
-// the controller hands out (rendering, reports).
+// uploaded at the first step and stays resident; it is copied back only when the texture is read
+// (sync), not every step: the step's report already carries the volumes.
 class GlBackendWetting final : public BackendWetting {
  public:
   explicit GlBackendWetting(std::unique_ptr<GlWetting> wetting) : wetting_(std::move(wetting)) {}
@@ -110,11 +110,9 @@ class GlBackendWetting final : public BackendWetting {
       if (Status s = wetting_->upload(texture); !s) return s.error();
       uploaded_ = true;
     }
-    Expected<WettingStepReport> report = wetting_->step(environment, dt);
-    if (!report) return report;
-    if (Status s = wetting_->download(texture); !s) return s.error();
-    return report;
+    return wetting_->step(environment, dt);
   }
+  Status sync(LiquidTexture& texture) override { return uploaded_ ? wetting_->download(texture) : Status(Ok{}); }
   bool threadSafe() const override { return false; }  // the GL context is driven from one thread
 
  private:

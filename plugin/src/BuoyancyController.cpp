@@ -815,7 +815,11 @@ void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const
 
 const LiquidTexture* BuoyancyController::liquidTexture(const btRigidBody* body) const {
   const FloatingBody* floating = find(body);
-  return floating != nullptr && floating->wetting ? &floating->wetting->texture : nullptr;
+  if (floating == nullptr || !floating->wetting) return nullptr;
+  WettingState& state = *floating->wetting;
+  // A GPU's liquid is copied back here, when it is read, not every step; null when it cannot be.
+  if (!state.solver->sync(state.texture)) return nullptr;
+  return &state.texture;
 }
 
 void BuoyancyController::followMassModel(FloatingBody& floating) {

@@ -24,6 +24,7 @@ class CpuWetting final : public BackendWetting {
   Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) override {
     return solver_.step(texture, environment, dt);
   }
+  Status sync(LiquidTexture&) override { return Ok{}; }  // stepped in place
   bool threadSafe() const override { return true; }
 
  private:

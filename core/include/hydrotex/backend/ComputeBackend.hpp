@@ -39,9 +39,12 @@ struct BackendHydrostaticsQuery {
 class BackendWetting {
  public:
   virtual ~BackendWetting() = default;
-  /// One step of `dt` seconds, as Wetting::step; `texture` holds the liquid after it (a GPU keeps
-  /// the liquid resident and copies it back). Errors leave `texture` as it was.
+  /// One step of `dt` seconds, as Wetting::step, of the liquid in `texture` (a GPU uploads it at
+  /// the first step and keeps it resident after: `texture` is current again after sync()).
   virtual Expected<WettingStepReport> step(LiquidTexture& texture, const WettingEnvironment& environment, double dt) = 0;
+  /// Brings `texture` up to date with the liquid the steps left (a GPU copies it back; the CPU's
+  /// texture is always current). Called only when someone reads the texture, not every step.
+  virtual Status sync(LiquidTexture& texture) = 0;
   /// Whether step() may run on any thread, beside other bodies' steps (the CPU's); false for a
   /// backend that must be driven from the thread that owns its context (the GL one).
   virtual bool threadSafe() const = 0;

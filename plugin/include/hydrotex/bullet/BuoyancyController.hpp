@@ -169,7 +169,8 @@ class BuoyancyController : public btActionInterface {
   MassModel* massModel(const btRigidBody* body);
 
   /// The liquid texture of a body that lists Effect::Wetting (per covered texel of its wetting
-  /// bake; saturation() feeds gpu/shaders/wet_shading.glsl), or null.
+  /// bake; saturation() feeds gpu/shaders/wet_shading.glsl), or null. With the GL backend the
+  /// liquid is copied back from the GPU here (not every step); null when that fails.
   const LiquidTexture* liquidTexture(const btRigidBody* body) const;
 
   /// The liquid graph of a body that lists Effect::Flooding (nodes, held liquid, levels), or null.
