@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -93,6 +94,23 @@ Eigen::Matrix3d texelCovariance(const Eigen::Vector3d& edgeU, const Eigen::Vecto
   const double fraction = spanned > 0.0 ? std::min(1.0, area / spanned) : 0.0;
   return fraction / 12.0 * (edgeU * edgeU.transpose() + edgeV * edgeV.transpose());
 }
+
+// Runs a caller's work exactly once: at the first run(), or when it goes out of scope.
+class RunOnce {
+ public:
+  explicit RunOnce(const std::function<void()>& work) : work_(work) {}
+  RunOnce(const RunOnce&) = delete;
+  RunOnce& operator=(const RunOnce&) = delete;
+  ~RunOnce() { run(); }
+  void run() {
+    if (!done_ && work_) work_();
+    done_ = true;
+  }
+
+ private:
+  const std::function<void()>& work_;
+  bool done_ = false;
+};
 
 void dispatchGroups(std::uint32_t groups) {
   const GLuint x = std::min<GLuint>(groups, kMaxGroupsX);
@@ -379,8 +397,12 @@ class GlBackend final : public ComputeBackend {
     return out;
   }
 
+  using ComputeBackend::hydrostatics;
   Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
-                      std::span<HydrostaticsResult> results) override {
+                      std::span<HydrostaticsResult> results, const std::function<void()>& meanwhile) override {
+    // The caller's work runs once, whatever the outcome: while the passes are in flight when they
+    // were submitted (finalSums), else when this returns.
+    RunOnce runMeanwhile(meanwhile);
     if (results.size() < queries.size())
       return Error{"gpu backend: " + std::to_string(queries.size()) + " queries, room for " +
                    std::to_string(results.size()) + " results"};
@@ -441,7 +463,7 @@ class GlBackend final : public ComputeBackend {
 
     const auto [low, high] = bodyWindow(queries);
     runHydrostaticsPasses(bodies_[low].hydroChunkBegin, bodies_[high - 1].hydroChunkEnd, *kind);
-    if (Status s = finalSums(false, low, high, *kind != SurfaceKind::Flat); !s) return s;
+    if (Status s = finalSums(false, low, high, *kind != SurfaceKind::Flat, &runMeanwhile); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
       const Body& body = bodies_[queries[i].body];
@@ -1121,7 +1143,10 @@ class GlBackend final : public ComputeBackend {
   // Per-body double sums of the chunk partials of bodies [low, high) into sums_ and, with
   // `withHeads` (surfaces that are not flat), of the pressure-head partials into headSums_: on the
   // GPU (both reductions dispatched, then both read back after one wait) or on the CPU.
-  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high, bool withHeads = false) {
+  // Sums each body's partials [low, high) and reads them back; `beforeReading` runs after the
+  // passes were flushed to the GPU and before the (blocking) read, on this thread.
+  Status finalSums(bool massMode, std::uint32_t low, std::uint32_t high, bool withHeads = false,
+                   RunOnce* beforeReading = nullptr) {
     const std::vector<layout::BodyRange>& ranges = massMode ? massRanges_ : hydroRanges_;
     if (finalOnGpu_) {
       glUseProgram(programs_.reduce.id());
@@ -1139,10 +1164,14 @@ class GlBackend final : public ComputeBackend {
         dispatchGroups(high - low);
       }
       glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      glFlush();
+      if (beforeReading != nullptr) beforeReading->run();
       const std::size_t offset = low * sizeof(layout::BodySums), bytes = (high - low) * sizeof(layout::BodySums);
       tables_.results.read(offset, sums_.data() + low, bytes);
       if (withHeads) tables_.headResults.read(offset, headSums_.data() + low, bytes);
     } else {
+      glFlush();
+      if (beforeReading != nullptr) beforeReading->run();
       const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
       auto sumOnHost = [&](const GlBuffer& partials, std::vector<layout::BodySums>& out) {
         partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));

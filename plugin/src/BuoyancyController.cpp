@@ -19,6 +19,7 @@
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/step/RigidBodiesStep.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
 namespace hydrotex::bullet {
@@ -120,13 +121,12 @@ BuoyancyController::BuoyancyController(btDynamicsWorld& world, LiquidSettings li
       settings_(settings),
       threads_(std::make_unique<BodyThreads>(std::max(settings.threads, 0))),
       backend_(settings.backend) {
+  BodyThreads* threads = threads_.get();
+  parallelFor_ = [threads](std::size_t count, const std::function<void(std::size_t)>& work) {
+    threads->forEach(count, work);
+  };
   // The default backend computes its batch on the controller's own threads.
-  if (!backend_) {
-    BodyThreads* threads = threads_.get();
-    backend_ = makeCpuBackend([threads](std::size_t count, const std::function<void(std::size_t)>& work) {
-      threads->forEach(count, work);
-    });
-  }
+  if (!backend_) backend_ = makeCpuBackend(parallelFor_);
 }
 
 BuoyancyController::~BuoyancyController() {
@@ -535,18 +535,16 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   time_ += dt;
   ++statistics_.steps;
   // Read (serial): everything that changes Bullet's bodies or shapes before the forces (deformation,
-  // flooding, mass), then each body's kinematics, once.
-  for (const auto& floating : bodies_) readBody(*floating, dt);
-  // Plan (serial, cheap): what each body needs this step; the texture queries form one batch.
-  queries_.clear();
-  for (const auto& floating : bodies_) planBody(*floating, dt);
-  // The backend (serial: the GL one owns a context on this thread): one batch, read back once.
-  askBackend();
-  // Compute (parallel): each call reads its own body's record, its backend answer and the shared
-  // liquid through const calls (LiquidSurface's contract: thread-safe), and writes only into its record.
-  threads_->forEach(bodies_.size(), [&](std::size_t i) { computeBody(*bodies_[i], dt); });
+  // flooding, mass), then each body's kinematics into its task for core's step, once.
+  tasks_.resize(bodies_.size());
+  results_.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) readBody(*bodies_[i], tasks_[i], dt);
+  wetBodies(dt);
+  // Core's phased step (RigidBodiesStep.hpp): plan, one backend batch read back once while the
+  // drag runs on the threads, then each body's implicit update in parallel.
+  statistics_.backendBatches += stepper_.run(*backend_, *liquid_.surface, tasks_, results_, parallelFor_, dt).backendBatches;
   // Write (serial, registration order): velocities and sleeping state to Bullet, counters added.
-  for (const auto& floating : bodies_) writeBody(*floating);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) writeBody(*bodies_[i], results_[i]);
   // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
   // positions and activation in the same pass; it would have to be split into phases as above.
   const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
@@ -584,9 +582,11 @@ const SoftBodyReport* BuoyancyController::softBodyReport(const btSoftBody* body)
   return nullptr;
 }
 
-void BuoyancyController::readBody(FloatingBody& floating, double dt) {
+void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task, double dt) {
   btRigidBody* body = floating.body;
-  const EffectSet effects = floating.settings.effects;
+  const FloatingBodySettings& settings = floating.settings;
+  const EffectSet effects = settings.effects;
+  floating.stepCounters = ControllerStatistics{};
   // Variable mass and deformation first: the forces must see this step's body. They change
   // Bullet's body and shape (mass, frame, AABB) and run user callbacks: serial.
   if (floating.deformation) deform(floating);
@@ -594,202 +594,120 @@ void BuoyancyController::readBody(FloatingBody& floating, double dt) {
   if (floating.massModel && !floating.flooding && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
     followMassModel(floating);
   }
-  BodyStep& step = floating.step;
-  step = BodyStep{};
-  step.meshWorld = body->getCenterOfMassTransform() * floating.bodyToMesh.inverse();
-  step.center = body->getCenterOfMassPosition();
-  step.linearVelocity = body->getLinearVelocity();
-  step.angularVelocity = body->getAngularVelocity();
-  step.gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
-  step.active = body->isActive();
-  step.dynamic = body->getInvMass() > btScalar(0);
-}
-
-void BuoyancyController::writeBody(FloatingBody& floating) {
-  btRigidBody* body = floating.body;
-  const BodyStep& step = floating.step;
-  if (step.wake) body->activate(true);
-  if (step.holdAwake) body->setDeactivationTime(0);
-  if (step.setLinear) body->setLinearVelocity(step.nextLinear);
-  if (step.setAngular) body->setAngularVelocity(step.nextAngular);
-  addCounters(statistics_, step.counters);
-}
-
-void BuoyancyController::planBody(FloatingBody& floating, double dt) {
-  BodyStep& step = floating.step;
-  // A liquid texture whose backend owns a context (GL) is stepped here, on the driving thread.
-  if (floating.wetting && !floating.wetting->solver->threadSafe()) wet(floating, toPose(step.meshWorld), step.gravity, dt);
-  const LiquidSurface& surface = *liquid_.surface;
-  // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
-  const bool still = surface.flatHeight().has_value() && liquid_.current.isZero();
-  if (!step.active && still) {
-    step.plan = BodyStep::Plan::Asleep;
-    return;
-  }
-  if (!step.dynamic) {
-    step.plan = BodyStep::Plan::Static;
-    return;
-  }
-  // Bodies wholly out of the liquid cost a bounding-sphere test.
-  const Pose meshPose = toPose(step.meshWorld);
-  if (whollyAboveSurface(surface, meshPose.apply(floating.boundsCenter), floating.boundsRadius, time_)) {
-    step.plan = BodyStep::Plan::OutOfLiquid;
-    return;
-  }
-  step.plan = BodyStep::Plan::Compute;
-  const EffectSet effects = floating.settings.effects;
-  const double pressureGravity = -step.gravity.y();
-  if (floating.backendBody && (effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
-    BackendHydrostaticsQuery asked;
-    asked.body = *floating.backendBody;
-    asked.query.pose = meshPose;
-    asked.query.gravity = pressureGravity;
-    asked.query.centerOfMass = floating.report.massProperties.centerOfMass;
-    asked.query.time = time_;
-    asked.query.mass = floating.report.massProperties.mass;
-    ++step.counters.hydrostaticsQueries;
-    step.query = queries_.size();
-    queries_.push_back(asked);
-  }
-}
-
-void BuoyancyController::askBackend() {
-  if (queries_.empty()) return;
-  answers_.resize(queries_.size());
-  ++statistics_.backendBatches;
-  const LiquidSurface& surface = *liquid_.surface;
-  if (backend_->hydrostatics(surface, queries_, answers_)) return;
-  // A batch fails whole (nothing written): ask each body alone, so that one bad body does not
-  // cost the others their buoyancy. Counted: each is a batch of its own.
-  for (const auto& floating : bodies_) {
-    BodyStep& step = floating->step;
-    if (!step.query) continue;
-    ++statistics_.backendBatches;
-    const std::size_t i = *step.query;
-    if (!backend_->hydrostatics(surface, std::span(&queries_[i], 1), std::span(&answers_[i], 1))) step.queryFailed = true;
-  }
-}
-
-void BuoyancyController::computeBody(FloatingBody& floating, double dt) const {
-  FloatingBodyReport& report = floating.report;
-  BodyStep& step = floating.step;
-  ControllerStatistics& counters = step.counters;
-  const LiquidSurface& surface = *liquid_.surface;
-  const FloatingBodySettings& settings = floating.settings;
-  const EffectSet effects = settings.effects;
-
-  // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
-  // Here, in parallel, where the backend's wetting allows it (the CPU's); planBody otherwise.
-  if (floating.wetting && floating.wetting->solver->threadSafe()) wet(floating, toPose(step.meshWorld), step.gravity, dt);
-
-  if (step.plan == BodyStep::Plan::Asleep) {
-    ++counters.skippedAsleep;
-    return;
-  }
-  if (step.plan == BodyStep::Plan::Static) return;
-
-  const btTransform& meshWorld = step.meshWorld;
-  const Pose meshPose = toPose(meshWorld);
-  const Eigen::Vector3d center = toEigen(step.center);
-  const Eigen::Vector3d& gravity = step.gravity;
-  const double mass = report.massProperties.mass;
-  report.hydrostatics = HydrostaticsResult{};
-  report.dragForce = report.dragTorque = btVector3(0, 0, 0);
-  report.addedMass = 0.0;
-  report.atRest = false;
-
-  if (step.plan == BodyStep::Plan::OutOfLiquid) {
-    ++counters.skippedOutOfLiquid;
-    step.nextLinear = step.linearVelocity + toBullet(dt * gravity);  // free fall
-    step.setLinear = true;
-    return;
-  }
-
-  // Buoyancy (and the submerged volume that added mass needs): the backend's answer for a texture
-  // body, the exact path here for the others.
-  const double pressureGravity = -gravity.y();
-  bool answered = false;
-  if ((effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass)) && pressureGravity > 0.0) {
-    if (step.query) {
-      if (!step.queryFailed) {
-        report.hydrostatics = answers_[*step.query];
-        answered = true;
-      }
-    } else {
-      HydrostaticsQuery query;
-      query.pose = meshPose;
-      query.gravity = pressureGravity;
-      query.centerOfMass = report.massProperties.centerOfMass;
-      query.time = time_;
-      query.mass = mass;
-      ++counters.hydrostaticsQueries;
-      if (Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*floating.mesh, surface, query)) {
-        report.hydrostatics = *exact;
-        answered = true;
-      }
-    }
-    if (!answered) ++counters.failedQueries;
-  }
-
-  RigidBodyMotion motion;
-  motion.meshPose = meshPose;
-  motion.center = center;
-  motion.linearVelocity = toEigen(step.linearVelocity);
-  motion.angularVelocity = toEigen(step.angularVelocity);
-  motion.mass = mass;
+  const MassProperties& massProperties = floating.report.massProperties;
+  RigidBodyMotion& motion = task.motion;
+  motion.meshPose = toPose(body->getCenterOfMassTransform() * floating.bodyToMesh.inverse());
+  motion.center = toEigen(body->getCenterOfMassPosition());
+  motion.linearVelocity = toEigen(body->getLinearVelocity());
+  motion.angularVelocity = toEigen(body->getAngularVelocity());
+  motion.mass = massProperties.mass;
   // In double from the mesh-axes inertia: Bullet's float inverse inertia, inverted, loses the
   // small moment of a needle (inverse moments 1e10 and 1e4 kg^-1 m^-2 in one float matrix).
-  motion.inertiaWorld = meshPose.rotation * report.massProperties.inertia * meshPose.rotation.transpose();
+  motion.inertiaWorld = motion.meshPose.rotation * massProperties.inertia * motion.meshPose.rotation.transpose();
 
-  // The laws (drag, added mass, the implicit update, the rest rule) are core's (RigidBodyStep.hpp).
-  RigidBodyStepInput input;
-  input.gravity = gravity;
-  input.hydrostatics = answered ? &report.hydrostatics : nullptr;
+  RigidBodyStepInput& input = task.input;
+  input = RigidBodyStepInput{};
+  input.gravity = toEigen(floating.usesWorldGravity ? world_.getGravity() : floating.ownGravity);
   input.buoyancy = effects.has(Effect::Buoyancy);
   if (effects.has(Effect::AddedMass)) input.addedMassCoefficient = settings.addedMassCoefficient;
-  DragBody dragBody;
   if (effects.has(Effect::Drag)) {
-    dragBody.patches = *floating.dragPatches;
-    dragBody.prepared = floating.dragPatchSet.get();
-    dragBody.totalPatchArea = floating.totalDragPatchArea;
-    dragBody.referenceLength = floating.referenceLength;
-    dragBody.coefficients = settings.drag;
-    dragBody.rotationalDamping = settings.rotationalDamping;
-    input.drag = &dragBody;
+    DragBody& drag = floating.dragBody;
+    drag.patches = *floating.dragPatches;
+    drag.prepared = floating.dragPatchSet.get();
+    drag.totalPatchArea = floating.totalDragPatchArea;
+    drag.referenceLength = floating.referenceLength;
+    drag.coefficients = settings.drag;
+    drag.rotationalDamping = settings.rotationalDamping;
+    input.drag = &drag;
   }
-  input.liquid = DragLiquid{&surface, toEigen(liquid_.current), liquid_.viscosity, time_};
+  input.liquid = DragLiquid{liquid_.surface.get(), toEigen(liquid_.current), liquid_.viscosity, time_};
   input.referenceLength = floating.referenceLength;
   input.rest = RestThresholds{settings_.restForceFraction, settings_.restLinearSpeed, settings_.restAngularSpeed};
-  const Expected<RigidBodyStepResult> stepped = stepRigidBody(motion, input, dt);
-  if (input.drag != nullptr) {
-    ++counters.dragPasses;
-    if (stepped) counters.dragPatchesVisited += stepped->drag.patchesVisited;
-  }
-  if (input.addedMassCoefficient) ++counters.addedMassUpdates;
-  if (!stepped) {
-    ++counters.failedQueries;
-    return;
-  }
-  report.dragForce = toBullet(stepped->drag.force);
-  report.dragTorque = toBullet(stepped->drag.torque);
-  report.addedMass = stepped->addedMass;
-  report.atRest = stepped->atRest;
-  const RigidBodyVelocities& next = stepped->velocities;
 
-  // Until at rest the body is kept awake, so that Bullet's sleeping thresholds (0.8 m/s for 2 s)
-  // cannot freeze a slow oscillation; a sleeping body that is not at rest is woken.
-  if (!step.active) {
-    if (report.atRest) {
-      ++counters.skippedAsleep;
+  task.active = body->isActive();
+  task.dynamic = body->getInvMass() > btScalar(0);
+  task.wantsHydrostatics = effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass);
+  task.backendBody = floating.backendBody;
+  task.exactMesh = floating.mesh.get();
+  task.centerOfMass = massProperties.centerOfMass;
+  task.boundsCenter = floating.boundsCenter;
+  task.boundsRadius = floating.boundsRadius;
+}
+
+void BuoyancyController::wetBodies(double dt) {
+  // The liquid texture runs whether the body is in the liquid, asleep or not: it dries in the air.
+  // A backend that owns a context (GL) is driven from this thread; the CPU's in parallel.
+  bool anyThreadSafe = false;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    FloatingBody& floating = *bodies_[i];
+    if (!floating.wetting) continue;
+    if (floating.wetting->solver->threadSafe()) {
+      anyThreadSafe = true;
+      continue;
+    }
+    wet(floating, tasks_[i].motion.meshPose, tasks_[i].input.gravity, dt);
+  }
+  if (!anyThreadSafe) return;
+  threads_->forEach(bodies_.size(), [this, dt](std::size_t i) {
+    FloatingBody& floating = *bodies_[i];
+    if (floating.wetting && floating.wetting->solver->threadSafe())
+      wet(floating, tasks_[i].motion.meshPose, tasks_[i].input.gravity, dt);
+  });
+}
+
+void BuoyancyController::writeBody(FloatingBody& floating, const RigidBodyTaskResult& result) {
+  btRigidBody* body = floating.body;
+  FloatingBodyReport& report = floating.report;
+  ControllerStatistics& counters = floating.stepCounters;
+  counters.hydrostaticsQueries += result.counters.hydrostaticsQueries;
+  counters.failedQueries += result.counters.failedQueries;
+  counters.dragPasses += result.counters.dragPasses;
+  counters.dragPatchesVisited += result.counters.dragPatchesVisited;
+  counters.addedMassUpdates += result.counters.addedMassUpdates;
+  // Bullet's side of the outcome: the report, the sleeping state and the velocities.
+  auto apply = [&] {
+    switch (result.plan) {
+      case RigidBodyPlan::Asleep:
+        ++counters.skippedAsleep;
+        return;
+      case RigidBodyPlan::Static:
+        return;
+      case RigidBodyPlan::OutOfLiquid:
+        ++counters.skippedOutOfLiquid;
+        break;
+      case RigidBodyPlan::Computed:
+        break;
+    }
+    report.hydrostatics = result.hydrostatics;
+    report.dragForce = report.dragTorque = btVector3(0, 0, 0);
+    report.addedMass = 0.0;
+    report.atRest = false;
+    if (!result.step) return;  // failed: counted, no forces this step
+    const RigidBodyStepResult& stepped = *result.step;
+    if (result.plan == RigidBodyPlan::OutOfLiquid) {
+      body->setLinearVelocity(toBullet(stepped.velocities.linear));  // free fall
       return;
     }
-    step.wake = true;
-  } else if (!report.atRest) {
-    step.holdAwake = true;
-  }
-  step.nextLinear = toBullet(next.linear);
-  step.nextAngular = toBullet(next.angular);
-  step.setLinear = step.setAngular = true;
+    report.dragForce = toBullet(stepped.drag.force);
+    report.dragTorque = toBullet(stepped.drag.torque);
+    report.addedMass = stepped.addedMass;
+    report.atRest = stepped.atRest;
+    // Until at rest the body is kept awake, so that Bullet's sleeping thresholds (0.8 m/s for 2 s)
+    // cannot freeze a slow oscillation; a sleeping body that is not at rest is woken.
+    if (!body->isActive()) {
+      if (report.atRest) {
+        ++counters.skippedAsleep;
+        return;
+      }
+      body->activate(true);
+    } else if (!report.atRest) {
+      body->setDeactivationTime(0);
+    }
+    body->setLinearVelocity(toBullet(stepped.velocities.linear));
+    body->setAngularVelocity(toBullet(stepped.velocities.angular));
+  };
+  apply();
+  addCounters(statistics_, counters);
 }
 
 void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) const {
@@ -800,10 +718,10 @@ void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const
   environment.time = time_;
   // Without downward gravity there is no hydrostatic head; a vanishing g drives no absorption.
   environment.gravity = -gravity.y() > 0.0 ? -gravity.y() : 1e-12;
-  ++floating.step.counters.wettingSteps;
+  ++floating.stepCounters.wettingSteps;
   Expected<WettingStepReport> stepped = state.solver->step(state.texture, environment, dt);
   if (!stepped) {
-    ++floating.step.counters.failedQueries;
+    ++floating.stepCounters.failedQueries;
     return;
   }
   FloatingBodyReport& report = floating.report;

@@ -64,32 +64,6 @@ struct SharedBodyModel {
   double totalDragPatchArea = 0.0;                           ///< m^2
 };
 
-/// One body's step between the phases of BuoyancyController::updateAction: what the serial read
-/// phase took from Bullet, and what the parallel phase computed from it and the body's own record
-/// alone, for the serial write phase to hand back to Bullet.
-struct BodyStep {
-  // Read from Bullet (after this step's deformation, flooding and mass changes).
-  btTransform meshWorld = btTransform::getIdentity();  ///< mesh frame in the world
-  btVector3 center{0, 0, 0};                           ///< m, centre of mass (world)
-  btVector3 linearVelocity{0, 0, 0};                   ///< m/s, of the centre of mass
-  btVector3 angularVelocity{0, 0, 0};                  ///< rad/s
-  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();   ///< m/s^2, the world's or the body's own
-  bool active = true;                                  ///< btRigidBody::isActive()
-  bool dynamic = true;                                 ///< positive inverse mass
-  // Computed in parallel; written back in registration order.
-  bool wake = false;                                   ///< activate(true) before the velocities
-  bool holdAwake = false;                              ///< setDeactivationTime(0) before the velocities
-  bool setLinear = false;                              ///< hand nextLinear to Bullet
-  bool setAngular = false;                             ///< hand nextAngular to Bullet
-  btVector3 nextLinear{0, 0, 0};                       ///< m/s
-  btVector3 nextAngular{0, 0, 0};                      ///< rad/s
-  /// What the plan phase decided (BuoyancyController::planBody).
-  enum class Plan { Compute, Asleep, Static, OutOfLiquid } plan = Plan::Compute;
-  std::optional<std::size_t> query;                    ///< its index in the step's backend batch
-  bool queryFailed = false;                            ///< the backend could not answer it
-  ControllerStatistics counters;                       ///< this body's work in the plan and parallel phases
-};
-
 /// One registered body.
 struct FloatingBody {
   btRigidBody* body = nullptr;                  ///< not owned
@@ -108,7 +82,11 @@ struct FloatingBody {
   double boundsRadius = 0.0;                    ///< m, sphere around boundsCenter holding the mesh
   double referenceLength = 1.0;                 ///< m, largest extent (Reynolds number, debug arrows)
   FloatingBodyReport report;                    ///< last step
-  BodyStep step;                                ///< the step in progress (BuoyancyController::updateAction)
+  /// Its drag model as core's step reads it (patches, coefficients), when Effect::Drag is listed:
+  /// refreshed from the fields above at each step's read phase (a deformation re-merges the patches).
+  DragBody dragBody;
+  /// This body's work in the step in progress, added to the controller's statistics at the write phase.
+  ControllerStatistics stepCounters;
   std::optional<MassModel> massModel;           ///< only with a shell, map, point masses, variable mass or deformation
   std::uint64_t appliedMassRevision = 0;        ///< massModel revision last handed to Bullet
   std::unique_ptr<DeformationState> deformation; ///< only with Effect::Deformation

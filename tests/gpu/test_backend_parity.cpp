@@ -742,3 +742,28 @@ TEST_CASE("GL backend: GPU-deformed mass properties across storage segments and 
   // And the stretched torus's volume grew: 1.2 times (x scaled; the y shear keeps volume).
   CHECK(relative(results[0].volume, 1.2 * torus.volume) < 2e-3);
 }
+
+TEST_CASE("every backend runs the caller's work once per batch, while it is in flight", "[backend]") {
+  // ComputeBackend::hydrostatics' `meanwhile`: the controller sums the drag there while a GPU's
+  // passes run. It runs exactly once whatever the outcome, and does not change the answers.
+  for (auto& backend : allBackends()) {
+    INFO("backend " << backend->name());
+    addBodies(*backend);
+    FlatSurface water(0.0, 1000.0);
+    const std::vector<BackendHydrostaticsQuery> queries = poseBatches()[0];
+    const std::vector<HydrostaticsResult> plain = runBatch(*backend, water, queries);
+    std::vector<HydrostaticsResult> overlapped(queries.size());
+    int runs = 0;
+    REQUIRE(backend->hydrostatics(water, queries, overlapped, [&] { ++runs; }).ok());
+    CHECK(runs == 1);
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      CHECK(overlapped[i].submergedVolume == plain[i].submergedVolume);
+      CHECK(overlapped[i].buoyancyForce == plain[i].buoyancyForce);
+    }
+    // A refused batch (a body asked twice) still runs it, once.
+    std::vector<BackendHydrostaticsQuery> twice = {queries[0], queries[0]};
+    runs = 0;
+    CHECK_FALSE(backend->hydrostatics(water, twice, overlapped, [&] { ++runs; }).ok());
+    CHECK(runs == 1);
+  }
+}

@@ -94,8 +94,18 @@ class CpuBackend final : public ComputeBackend {
     if (id < bodies_.size()) bodies_[id].reset();
   }
 
+  using ComputeBackend::hydrostatics;
   Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
-                      std::span<HydrostaticsResult> results) override {
+                      std::span<HydrostaticsResult> results, const std::function<void()>& meanwhile) override {
+    // On the CPU nothing is in flight: the caller's work runs after the batch, on the same threads.
+    const Status answered = answerBatch(surface, queries, results);
+    if (meanwhile) meanwhile();
+    return answered;
+  }
+
+ private:
+  Status answerBatch(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
+                     std::span<HydrostaticsResult> results) {
     if (Status valid = checkBatch(queries, results.size()); !valid) return valid;
     // Each query reads only its own body (const) and writes only its own answer: the bodies run
     // in parallel when a ParallelFor was given. Nothing is written to `results` unless all succeed.
@@ -127,6 +137,7 @@ class CpuBackend final : public ComputeBackend {
     return Ok{};
   }
 
+ public:
   Status massProperties(std::span<const BackendBodyId> ids, std::span<const TextureMassModel> models,
                         std::span<MassProperties> results) override {
     if (ids.size() != models.size() || results.size() < ids.size())

@@ -396,7 +396,8 @@ Expected<RigidBodyStepResult> stepRigidBody(const RigidBodyMotion& motion, const
     update.stiffness = input.hydrostatics->stiffness;
   }
   result.drag.liquidVelocityAtCenter = input.liquid.current;
-  if (input.drag != nullptr) result.drag = rigidBodyDrag(*input.drag, motion, input.liquid, dt);
+  if (input.drag != nullptr)
+    result.drag = input.dragLoads != nullptr ? *input.dragLoads : rigidBodyDrag(*input.drag, motion, input.liquid, dt);
   if (input.addedMassCoefficient && input.hydrostatics != nullptr) {
     result.addedMass = translationalAddedMass(*input.addedMassCoefficient, input.hydrostatics->fluidDensity,
                                               input.hydrostatics->submergedVolume);

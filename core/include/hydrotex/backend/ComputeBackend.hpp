@@ -91,10 +91,19 @@ class ComputeBackend {
   virtual void releaseBody(BackendBodyId body) { (void)body; }
 
   /// Hydrostatics of every queried body in `surface`, one result per query (same order).
-  /// Errors (nothing is written then): `results` shorter than `queries`, an unknown body, a body
-  /// asked twice in one batch, an invalid query or surface (validateHydrostaticsQuery).
+  /// `meanwhile` (may be empty) runs exactly once on the calling thread, whatever the outcome, while
+  /// the batch is in flight: a GPU backend calls it after submitting its passes and before reading
+  /// the results back, so that the caller's CPU work (the drag) overlaps them; the CPU backend
+  /// after its batch. Errors (nothing is written then): `results` shorter than `queries`, an
+  /// unknown body, a body asked twice in one batch, an invalid query or surface
+  /// (validateHydrostaticsQuery).
   virtual Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
-                              std::span<HydrostaticsResult> results) = 0;
+                              std::span<HydrostaticsResult> results, const std::function<void()>& meanwhile) = 0;
+  /// The same with nothing to run meanwhile.
+  Status hydrostatics(const LiquidSurface& surface, std::span<const BackendHydrostaticsQuery> queries,
+                      std::span<HydrostaticsResult> results) {
+    return hydrostatics(surface, queries, results, {});
+  }
 
   /// Texture mass properties of `bodies[i]` made of `models[i]` (TextureMassIntegrator's
   /// formulas; the models' referencePoint is ignored: the registered one is used). Errors: spans

@@ -164,6 +164,9 @@ struct RigidBodyStepInput {
   /// C_a of the added mass (translationalAddedMass); nullopt: the effect is not listed.
   std::optional<double> addedMassCoefficient;
   const DragBody* drag = nullptr;                     ///< null: drag not listed (no pass over the patches)
+  /// rigidBodyDrag(*drag, motion, liquid, dt) already summed for this step (stepRigidBodies runs
+  /// the drag of all bodies while the backend answers their hydrostatics); null: summed here.
+  const DragLoads* dragLoads = nullptr;
   DragLiquid liquid;                                  ///< the liquid drag and the rest rule see
   double referenceLength = 1.0;                       ///< m, scales the rest rule's torque
   RestThresholds rest;                                ///< when the body counts as at rest

@@ -21,6 +21,7 @@
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mass/MassModel.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/step/RigidBodiesStep.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 #include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
 
@@ -215,11 +216,9 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
-  void readBody(FloatingBody& floating, double dt);
-  void planBody(FloatingBody& floating, double dt);
-  void askBackend();
-  void computeBody(FloatingBody& floating, double dt) const;
-  void writeBody(FloatingBody& floating);
+  void readBody(FloatingBody& floating, RigidBodyTask& task, double dt);
+  void wetBodies(double dt);
+  void writeBody(FloatingBody& floating, const RigidBodyTaskResult& result);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
   Status attachDeformedCollision(FloatingBody& floating);
@@ -235,8 +234,10 @@ class BuoyancyController : public btActionInterface {
   ControllerStatistics statistics_;
   std::unique_ptr<BodyThreads> threads_;
   std::shared_ptr<ComputeBackend> backend_;
-  std::vector<BackendHydrostaticsQuery> queries_;  ///< this step's batch (planBody)
-  std::vector<HydrostaticsResult> answers_;        ///< ... and its answers (askBackend)
+  ParallelFor parallelFor_;                    ///< threads_ as core's step takes them
+  RigidBodiesStep stepper_;                    ///< core's phased step of the rigid bodies
+  std::vector<RigidBodyTask> tasks_;           ///< this step's question per body (readBody), registration order
+  std::vector<RigidBodyTaskResult> results_;   ///< ... and the answers (writeBody)
   /// What identifies a shareable model: the mesh (by identity), resolution, the texture path,
   /// drag and its patch settings.
   using ModelKey = std::tuple<const Mesh*, int, bool, bool, double, double>;

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: Zlib
+/// @file RigidBodiesStep.cpp
+/// The phased step of many rigid bodies: plan, one backend batch overlapped with the drag, then
+/// each body's update.
+#include "hydrotex/step/RigidBodiesStep.hpp"
+
+#include <functional>
+
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+
+namespace hydrotex {
+namespace {
+
+// Runs work(i) for i in [0, count) through `parallelFor`, or in order when it is empty.
+void forEach(const ParallelFor& parallelFor, std::size_t count, const std::function<void(std::size_t)>& work) {
+  if (count == 0) return;
+  if (parallelFor) {
+    parallelFor(count, work);
+    return;
+  }
+  for (std::size_t i = 0; i < count; ++i) work(i);
+}
+
+// The hydrostatics query of a body in its pose (the buoyancy's pressure acts along -g_y).
+HydrostaticsQuery queryOf(const RigidBodyTask& task) {
+  HydrostaticsQuery query;
+  query.pose = task.motion.meshPose;
+  query.gravity = -task.input.gravity.y();
+  query.centerOfMass = task.centerOfMass;
+  query.time = task.input.liquid.time;
+  query.mass = task.motion.mass;
+  return query;
+}
+
+// Whether the body needs hydrostatics this step: buoyancy or added mass listed, and a weight that
+// presses it into the liquid (no hydrostatic head without downward gravity).
+bool asksHydrostatics(const RigidBodyTask& task) {
+  return task.wantsHydrostatics && -task.input.gravity.y() > 0.0;
+}
+
+}  // namespace
+
+// One step's inputs, handed to the parallel work through one pointer (a std::function holding two
+// pointers does not allocate).
+struct RigidBodiesStep::Batch {
+  ComputeBackend& backend;
+  const LiquidSurface& surface;
+  std::span<const RigidBodyTask> tasks;
+  std::span<RigidBodyTaskResult> results;
+  const ParallelFor& parallelFor;
+  double dt;
+};
+
+RigidBodiesStepStatistics RigidBodiesStep::run(ComputeBackend& backend, const LiquidSurface& surface,
+                                               std::span<const RigidBodyTask> tasks,
+                                               std::span<RigidBodyTaskResult> results, const ParallelFor& parallelFor,
+                                               double dt) {
+  const std::size_t count = std::min(tasks.size(), results.size());
+  const Batch batch{backend, surface, tasks.first(count), results.first(count), parallelFor, dt};
+  RigidBodiesStepStatistics statistics;
+  plan(batch);
+
+  // The backend: one batch, read back once, while the drag of every body is summed (pure).
+  drag_.resize(count);
+  const std::function<void()> sumAllDrag = [this, &batch] {
+    forEach(batch.parallelFor, batch.tasks.size(), [this, &batch](std::size_t i) { sumDrag(batch, i); });
+  };
+  answers_.resize(queries_.size());
+  answered_.assign(queries_.size(), 0);
+  if (queries_.empty()) {
+    sumAllDrag();
+  } else {
+    ++statistics.backendBatches;
+    if (backend.hydrostatics(surface, queries_, answers_, sumAllDrag)) {
+      answered_.assign(queries_.size(), 1);
+    } else {
+      // A batch fails whole (nothing written): ask each body alone. Counted: each is a batch.
+      for (std::size_t q = 0; q < queries_.size(); ++q) {
+        ++statistics.backendBatches;
+        answered_[q] = backend.hydrostatics(surface, std::span(&queries_[q], 1), std::span(&answers_[q], 1)).ok();
+      }
+    }
+  }
+  // Each body's update (parallel).
+  forEach(parallelFor, count, [this, &batch](std::size_t i) { update(batch, i); });
+  return statistics;
+}
+
+void RigidBodiesStep::plan(const Batch& batch) {
+  queries_.clear();
+  queryOfBody_.assign(batch.tasks.size(), kNoQuery);
+  const bool flat = batch.surface.flatHeight().has_value();
+  for (std::size_t i = 0; i < batch.tasks.size(); ++i) {
+    const RigidBodyTask& task = batch.tasks[i];
+    RigidBodyTaskResult& result = batch.results[i];
+    result = RigidBodyTaskResult{};
+    // A body asleep in a still liquid stays as it was: nothing the liquid does can have changed.
+    if (!task.active && flat && task.input.liquid.current.isZero()) {
+      result.plan = RigidBodyPlan::Asleep;
+      continue;
+    }
+    if (!task.dynamic) {
+      result.plan = RigidBodyPlan::Static;
+      continue;
+    }
+    const Eigen::Vector3d sphereCenter = task.motion.meshPose.apply(task.boundsCenter);
+    if (whollyAboveSurface(batch.surface, sphereCenter, task.boundsRadius, task.input.liquid.time)) {
+      result.plan = RigidBodyPlan::OutOfLiquid;  // free fall
+      RigidBodyStepResult fall;
+      fall.velocities.linear = task.motion.linearVelocity + batch.dt * task.input.gravity;
+      fall.velocities.angular = task.motion.angularVelocity;
+      fall.drag.liquidVelocityAtCenter = task.input.liquid.current;
+      result.step = fall;
+      continue;
+    }
+    if (task.backendBody && asksHydrostatics(task)) {
+      ++result.counters.hydrostaticsQueries;
+      queryOfBody_[i] = queries_.size();
+      queries_.push_back(BackendHydrostaticsQuery{*task.backendBody, queryOf(task)});
+    }
+  }
+}
+
+void RigidBodiesStep::sumDrag(const Batch& batch, std::size_t i) {
+  const RigidBodyTask& task = batch.tasks[i];
+  if (batch.results[i].plan != RigidBodyPlan::Computed || task.input.drag == nullptr) return;
+  drag_[i] = rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt);
+}
+
+void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
+  const RigidBodyTask& task = batch.tasks[i];
+  RigidBodyTaskResult& result = batch.results[i];
+  if (result.plan != RigidBodyPlan::Computed) return;
+  RigidBodyStepCounters& counters = result.counters;
+  // Hydrostatics: the backend's answer for a texture body, the exact path here for the others.
+  bool haveHydrostatics = false;
+  if (asksHydrostatics(task)) {
+    if (queryOfBody_[i] != kNoQuery) {
+      const std::size_t q = queryOfBody_[i];
+      if (answered_[q]) {
+        result.hydrostatics = answers_[q];
+        haveHydrostatics = true;
+      }
+    } else if (task.exactMesh != nullptr) {
+      ++counters.hydrostaticsQueries;
+      if (Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, queryOf(task))) {
+        result.hydrostatics = *exact;
+        haveHydrostatics = true;
+      }
+    }
+    if (!haveHydrostatics) ++counters.failedQueries;
+  }
+  RigidBodyStepInput input = task.input;
+  input.hydrostatics = haveHydrostatics ? &result.hydrostatics : nullptr;
+  input.dragLoads = input.drag != nullptr ? &drag_[i] : nullptr;
+  if (input.drag != nullptr) {
+    ++counters.dragPasses;
+    counters.dragPatchesVisited += drag_[i].patchesVisited;
+  }
+  if (input.addedMassCoefficient) ++counters.addedMassUpdates;
+  Expected<RigidBodyStepResult> stepped = stepRigidBody(task.motion, input, batch.dt);
+  if (!stepped) {
+    ++counters.failedQueries;
+    return;
+  }
+  result.step = *stepped;
+}
+
+}  // namespace hydrotex
