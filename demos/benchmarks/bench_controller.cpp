@@ -61,7 +61,16 @@ struct Run {
   double registerMs = 0.0;   ///< SceneWorld::create: every body registered
   double residentMb = 0.0;   ///< the process's resident memory after registration
   ControllerStatistics counters;  ///< the timed steps' work (the controller's counters, warm-up excluded)
+  ControllerTimings phases;       ///< the timed steps' time per phase, ms a step
 };
+
+/// (after - before) / steps, in ms, phase by phase.
+ControllerTimings phasesPerStep(const ControllerTimings& before, const ControllerTimings& after, int steps) {
+  const double k = 1000.0 / steps;
+  return {k * (after.read - before.read),       k * (after.wetting - before.wetting), k * (after.plan - before.plan),
+          k * (after.backend - before.backend), k * (after.drag - before.drag),       k * (after.update - before.update),
+          k * (after.write - before.write),     k * (after.softBodies - before.softBodies)};
+}
 
 /// Resident memory of this process (MB), from /proc/self/statm.
 double residentMegabytes() {
@@ -112,6 +121,7 @@ Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int thread
   for (int i = 0; i < 30; ++i) world.step();  // warm-up: bodies enter the water
   timed.seconds = 0.0;
   const ControllerStatistics before = world.controller().statistics();
+  const ControllerTimings phasesBefore = world.controller().timings();
   const auto start = Clock::now();
   for (int i = 0; i < steps; ++i) world.step();
   const double total = std::chrono::duration<double>(Clock::now() - start).count();
@@ -123,7 +133,8 @@ Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int thread
   counters.dragPatchesVisited -= before.dragPatchesVisited;
   counters.skippedOutOfLiquid -= before.skippedOutOfLiquid;
   counters.skippedAsleep -= before.skippedAsleep;
-  return {1000.0 * total / steps, 1000.0 * timed.seconds / steps, registerMs, residentMb, counters};
+  return {1000.0 * total / steps, 1000.0 * timed.seconds / steps, registerMs, residentMb, counters,
+          phasesPerStep(phasesBefore, world.controller().timings(), steps)};
 }
 
 /// Eigen from Bullet.
@@ -286,9 +297,11 @@ int runBackend(int argc, char** argv) {
   std::vector<double> totals, controllers, registers, resident;
   std::string renderer;
   ControllerStatistics counters;
+  std::vector<ControllerTimings> phases;
   for (int r = 0; r < runs; ++r) {
     const Run run = runOnce(effects, resolution, bodies, steps, threads, backend, &renderer);
     counters = run.counters;
+    phases.push_back(run.phases);
     totals.push_back(run.totalMs);
     controllers.push_back(run.controllerMs);
     registers.push_back(run.registerMs);
@@ -310,12 +323,26 @@ int runBackend(int argc, char** argv) {
   for (int r = 0; r < runs; ++r) bullet.push_back(totals[std::size_t(r)] - controllers[std::size_t(r)]);
   std::printf("%-12s %12.3f %12.3f %15.3f %18.4f %10.1f\n", backend.c_str(), median(totals), median(bullet),
               median(controllers), floorMs, 1.0);
+  // The controller's phases (medians over the runs, phase by phase): where a GPU's batch waits,
+  // and how much of the drag it hides (the drag runs while the batch is in flight).
+  auto phaseMedian = [&](double ControllerTimings::*field) {
+    std::vector<double> values;
+    for (const ControllerTimings& p : phases) values.push_back(p.*field);
+    return median(values);
+  };
+  const double read = phaseMedian(&ControllerTimings::read), plan = phaseMedian(&ControllerTimings::plan),
+               batch = phaseMedian(&ControllerTimings::backend), dragMs = phaseMedian(&ControllerTimings::drag),
+               update = phaseMedian(&ControllerTimings::update), write = phaseMedian(&ControllerTimings::write);
+  std::printf("controller phases, ms a step: read %.3f, plan %.3f, backend batch %.3f beside drag %.3f, update %.3f, "
+              "write %.3f\n",
+              read, plan, batch, dragMs, update, write);
   std::ofstream csv(csvPath);
   csv << "backend,renderer,bodies,resolution,effects,threads,runs,total_ms_per_step,bullet_ms_per_step,controller_ms_per_step,"
-         "bandwidth_floor_ms,goal_ms,register_ms,resident_mb\n";
+         "bandwidth_floor_ms,goal_ms,register_ms,resident_mb,read_ms,plan_ms,backend_ms,drag_ms,update_ms,write_ms\n";
   csv << backend << ",\"" << renderer << "\"," << bodies << ',' << resolution << ',' << (drag ? "buoyancy+drag" : "buoyancy")
       << ',' << threads << ',' << runs << ',' << median(totals) << ',' << median(bullet) << ',' << median(controllers)
-      << ',' << floorMs << ",1," << median(registers) << ',' << median(resident) << '\n';
+      << ',' << floorMs << ",1," << median(registers) << ',' << median(resident) << ',' << read << ',' << plan << ','
+      << batch << ',' << dragMs << ',' << update << ',' << write << '\n';
   std::printf("a step (last run): %.1f buoyancy queries, %.1f drag passes of %.1f wet patches each, %.1f bodies out of "
               "the liquid, %.1f asleep\n",
               double(counters.hydrostaticsQueries) / steps, double(counters.dragPasses) / steps,

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -73,6 +74,10 @@ void applyBodyFrame(btDynamicsWorld& world, FloatingBody& floating, const btTran
 }
 
 /// Adds one body's counters of a step to the controller's.
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
 void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   // Every counter is a std::uint64_t: a new one that is not added here fails this check.
   static_assert(sizeof(ControllerStatistics) == 15 * sizeof(std::uint64_t), "add the new counter below");
@@ -536,17 +541,33 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   ++statistics_.steps;
   // Read (serial): everything that changes Bullet's bodies or shapes before the forces (deformation,
   // flooding, mass), then each body's kinematics into its task for core's step, once.
+  // The kinematics are plain reads of distinct bodies: in parallel.
+  Clock::time_point start = Clock::now();
   tasks_.resize(bodies_.size());
   results_.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) readBody(*bodies_[i], tasks_[i], dt);
+  for (const auto& floating : bodies_) changeBody(*floating, dt);
+  threads_->forEach(bodies_.size(), [this](std::size_t i) { readBody(*bodies_[i], tasks_[i]); });
+  timings_.read += secondsSince(start);
+  start = Clock::now();
   wetBodies(dt);
+  timings_.wetting += secondsSince(start);
   // Core's phased step (RigidBodiesStep.hpp): plan, one backend batch read back once while the
   // drag runs on the threads, then each body's implicit update in parallel.
-  statistics_.backendBatches += stepper_.run(*backend_, *liquid_.surface, tasks_, results_, parallelFor_, dt).backendBatches;
-  // Write (serial, registration order): velocities and sleeping state to Bullet, counters added.
-  for (std::size_t i = 0; i < bodies_.size(); ++i) writeBody(*bodies_[i], results_[i]);
+  const RigidBodiesStepStatistics stepped = stepper_.run(*backend_, *liquid_.surface, tasks_, results_, parallelFor_, dt);
+  statistics_.backendBatches += stepped.backendBatches;
+  timings_.plan += stepped.planSeconds;
+  timings_.backend += stepped.backendSeconds;
+  timings_.drag += stepped.dragSeconds;
+  timings_.update += stepped.updateSeconds;
+  // Write: velocities and sleeping state to Bullet, each body only its own (in parallel), then the
+  // counters added in registration order.
+  start = Clock::now();
+  threads_->forEach(bodies_.size(), [this](std::size_t i) { writeBody(*bodies_[i], results_[i]); });
+  for (const auto& floating : bodies_) addCounters(statistics_, floating->stepCounters);
+  timings_.write += secondsSince(start);
   // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
   // positions and activation in the same pass; it would have to be split into phases as above.
+  start = Clock::now();
   const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
   for (SoftBodyBuoyancy& soft : softBodies_) {
     if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
@@ -558,6 +579,7 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
     if (done.dragApplied) ++statistics_.dragPasses;
     statistics_.dragPatchesVisited += done.dragTexelsVisited;
   }
+  timings_.softBodies += secondsSince(start);
 }
 
 Status BuoyancyController::addSoftBody(btSoftBody* body, const SoftBodySettings& settings) {
@@ -582,10 +604,8 @@ const SoftBodyReport* BuoyancyController::softBodyReport(const btSoftBody* body)
   return nullptr;
 }
 
-void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task, double dt) {
-  btRigidBody* body = floating.body;
-  const FloatingBodySettings& settings = floating.settings;
-  const EffectSet effects = settings.effects;
+void BuoyancyController::changeBody(FloatingBody& floating, double dt) {
+  const EffectSet effects = floating.settings.effects;
   floating.stepCounters = ControllerStatistics{};
   // Variable mass and deformation first: the forces must see this step's body. They change
   // Bullet's body and shape (mass, frame, AABB) and run user callbacks: serial.
@@ -594,6 +614,12 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task, d
   if (floating.massModel && !floating.flooding && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
     followMassModel(floating);
   }
+}
+
+void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) const {
+  const btRigidBody* body = floating.body;
+  const FloatingBodySettings& settings = floating.settings;
+  const EffectSet effects = settings.effects;
   const MassProperties& massProperties = floating.report.massProperties;
   RigidBodyMotion& motion = task.motion;
   motion.meshPose = toPose(body->getCenterOfMassTransform() * floating.bodyToMesh.inverse());
@@ -707,7 +733,6 @@ void BuoyancyController::writeBody(FloatingBody& floating, const RigidBodyTaskRe
     body->setAngularVelocity(toBullet(stepped.velocities.angular));
   };
   apply();
-  addCounters(statistics_, counters);
 }
 
 void BuoyancyController::wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) const {

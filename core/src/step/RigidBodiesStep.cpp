@@ -4,12 +4,17 @@
 /// each body's update.
 #include "hydrotex/step/RigidBodiesStep.hpp"
 
+#include <chrono>
 #include <functional>
 
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
 namespace hydrotex {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Runs work(i) for i in [0, count) through `parallelFor`, or in order when it is empty.
 void forEach(const ParallelFor& parallelFor, std::size_t count, const std::function<void(std::size_t)>& work) {
@@ -58,13 +63,24 @@ RigidBodiesStepStatistics RigidBodiesStep::run(ComputeBackend& backend, const Li
   const std::size_t count = std::min(tasks.size(), results.size());
   const Batch batch{backend, surface, tasks.first(count), results.first(count), parallelFor, dt};
   RigidBodiesStepStatistics statistics;
+  Clock::time_point start = Clock::now();
   plan(batch);
+  statistics.planSeconds = secondsSince(start);
 
   // The backend: one batch, read back once, while the drag of every body is summed (pure).
   drag_.resize(count);
-  const std::function<void()> sumAllDrag = [this, &batch] {
-    forEach(batch.parallelFor, batch.tasks.size(), [this, &batch](std::size_t i) { sumDrag(batch, i); });
+  const struct {
+    RigidBodiesStep* self;
+    const Batch* batch;
+    double* seconds;
+  } drag{this, &batch, &statistics.dragSeconds};
+  const std::function<void()> sumAllDrag = [&drag] {
+    const Clock::time_point dragStart = Clock::now();
+    forEach(drag.batch->parallelFor, drag.batch->tasks.size(),
+            [&drag](std::size_t i) { drag.self->sumDrag(*drag.batch, i); });
+    *drag.seconds += secondsSince(dragStart);
   };
+  start = Clock::now();
   answers_.resize(queries_.size());
   answered_.assign(queries_.size(), 0);
   if (queries_.empty()) {
@@ -81,8 +97,11 @@ RigidBodiesStepStatistics RigidBodiesStep::run(ComputeBackend& backend, const Li
       }
     }
   }
+  statistics.backendSeconds = secondsSince(start) - statistics.dragSeconds;
   // Each body's update (parallel).
+  start = Clock::now();
   forEach(parallelFor, count, [this, &batch](std::size_t i) { update(batch, i); });
+  statistics.updateSeconds = secondsSince(start);
   return statistics;
 }
 

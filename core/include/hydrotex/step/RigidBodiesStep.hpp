@@ -70,9 +70,14 @@ struct RigidBodyTaskResult {
   RigidBodyStepCounters counters;
 };
 
-/// The work of one whole step (besides each body's counters).
+/// The work of one whole step (besides each body's counters), and where its time went (wall
+/// clock, s: a benchmark's per-phase split; not deterministic).
 struct RigidBodiesStepStatistics {
   std::uint64_t backendBatches = 0;  ///< hydrostatics batches asked of the backend, each read back once
+  double planSeconds = 0.0;          ///< the serial plan
+  double backendSeconds = 0.0;       ///< in the backend's batch calls, less the drag run meanwhile
+  double dragSeconds = 0.0;          ///< the drag of every body (overlapping a GPU's batch)
+  double updateSeconds = 0.0;        ///< the exact path's queries and the implicit updates
 };
 
 /// The phased step of many rigid bodies, with the room it works in kept between steps (a step

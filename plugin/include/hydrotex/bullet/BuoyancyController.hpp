@@ -89,6 +89,19 @@ struct ControllerStatistics {
   std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
 };
 
+/// Where the controller's time went since construction or resetStatistics(), by phase of its step
+/// (wall clock, s): a benchmark's per-phase split. Not deterministic; nothing depends on it.
+struct ControllerTimings {
+  double read = 0.0;      ///< reading Bullet's bodies, with deformation, flooding and mass changes
+  double wetting = 0.0;   ///< the liquid textures
+  double plan = 0.0;      ///< core's plan (RigidBodiesStepStatistics)
+  double backend = 0.0;   ///< the backend's hydrostatics batch, less the drag run meanwhile
+  double drag = 0.0;      ///< the drag sums (overlapping a GPU backend's batch)
+  double update = 0.0;    ///< the exact path's queries and the implicit updates
+  double write = 0.0;     ///< writing velocities and sleeping state back to Bullet
+  double softBodies = 0.0;  ///< the soft bodies
+};
+
 /// What the controller knows about one registered body after the last step.
 struct FloatingBodyReport {
   MassProperties massProperties;     ///< mass (kg), volume, centre of mass and inertia in the mesh frame
@@ -194,7 +207,12 @@ class BuoyancyController : public btActionInterface {
   /// Work counters since construction or resetStatistics().
   const ControllerStatistics& statistics() const { return statistics_; }
   /// Zeroes the work counters.
-  void resetStatistics() { statistics_ = {}; }
+  void resetStatistics() {
+    statistics_ = {};
+    timings_ = {};
+  }
+  /// Time per phase of the step since construction or resetStatistics().
+  const ControllerTimings& timings() const { return timings_; }
   /// Threads the next step's parallel phase runs on (ControllerSettings::threads resolved: >= 1).
   int threads() const;
   /// The backend the texture path's hydrostatics run on (ControllerSettings::backend, or the
@@ -216,9 +234,10 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
-  void readBody(FloatingBody& floating, RigidBodyTask& task, double dt);
+  void changeBody(FloatingBody& floating, double dt);
+  void readBody(FloatingBody& floating, RigidBodyTask& task) const;
   void wetBodies(double dt);
-  void writeBody(FloatingBody& floating, const RigidBodyTaskResult& result);
+  static void writeBody(FloatingBody& floating, const RigidBodyTaskResult& result);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
   Status attachDeformedCollision(FloatingBody& floating);
@@ -232,6 +251,7 @@ class BuoyancyController : public btActionInterface {
   std::vector<std::unique_ptr<FloatingBody>> bodies_;
   std::vector<SoftBodyBuoyancy> softBodies_;
   ControllerStatistics statistics_;
+  ControllerTimings timings_;
   std::unique_ptr<BodyThreads> threads_;
   std::shared_ptr<ComputeBackend> backend_;
   ParallelFor parallelFor_;                    ///< threads_ as core's step takes them
