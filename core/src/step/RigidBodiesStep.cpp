@@ -75,6 +75,7 @@ RigidBodiesStepStatistics RigidBodiesStep::run(ComputeBackend& backend, const Li
     double* seconds;
   } drag{this, &batch, &statistics.dragSeconds};
   const std::function<void()> sumAllDrag = [&drag] {
+    if (!drag.self->anyDrag_) return;  // no pass over the threads for nothing
     const Clock::time_point dragStart = Clock::now();
     forEach(drag.batch->parallelFor, drag.batch->tasks.size(),
             [&drag](std::size_t i) { drag.self->sumDrag(*drag.batch, i); });
@@ -108,6 +109,7 @@ RigidBodiesStepStatistics RigidBodiesStep::run(ComputeBackend& backend, const Li
 void RigidBodiesStep::plan(const Batch& batch) {
   queries_.clear();
   queryOfBody_.assign(batch.tasks.size(), kNoQuery);
+  anyDrag_ = false;
   const bool flat = batch.surface.flatHeight().has_value();
   for (std::size_t i = 0; i < batch.tasks.size(); ++i) {
     const RigidBodyTask& task = batch.tasks[i];
@@ -132,6 +134,7 @@ void RigidBodiesStep::plan(const Batch& batch) {
       result.step = fall;
       continue;
     }
+    anyDrag_ = anyDrag_ || task.input.drag != nullptr;
     if (task.backendBody && asksHydrostatics(task)) {
       ++result.counters.hydrostaticsQueries;
       queryOfBody_[i] = queries_.size();

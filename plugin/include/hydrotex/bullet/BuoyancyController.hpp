@@ -220,13 +220,13 @@ class BuoyancyController : public btActionInterface {
   const ComputeBackend& backend() const { return *backend_; }
 
   /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in phases
-  /// over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels): read each
-  /// body from Bullet (with its deformation, flooding and mass changes) and decide what it needs
-  /// (asleep, out of the liquid, a texture query; serial); ask the backend once for every texture
-  /// body's hydrostatics (one batch, read back once); compute every body's liquid texture, other
-  /// loads and implicit velocity update from its own record alone (parallel,
-  /// ControllerSettings::threads); write each body back in registration order and add its
-  /// counters (serial). Soft bodies follow, serially.
+  /// over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels): apply each
+  /// body's deformation, flooding and mass changes (serial), read its kinematics into a
+  /// RigidBodyTask and step its liquid texture (parallel, ControllerSettings::threads); core's
+  /// RigidBodiesStep plans, asks the backend once for every texture body's hydrostatics (one
+  /// batch, read back once) while the drag is summed, and runs each body's implicit update; write
+  /// each body's velocities and sleeping state back (parallel, each its own) and add the counters
+  /// in registration order. Soft bodies follow, serially.
   void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
   /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
   /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
