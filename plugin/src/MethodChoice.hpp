@@ -12,13 +12,13 @@
 
 namespace hydrotex::bullet {
 
-/// `settings.method` unless it is Auto; for Auto, Texture for a deforming body, else core's
-/// adviseHydrostatics on `mesh` at the body's resolution (in flat water) with the target
-/// settings.autoMethodError, and under a surface that is not flat the exact path's linearization
-/// error (exactLinearizationError) beside it: the advisor's choice when the exact path's error is
-/// within the target too, else the texture path when it meets the target, else whichever has the
-/// smaller error. Polyhedral when the advisor cannot measure the mesh (addBody then names the
-/// mesh's defect itself).
+/// `settings.method` unless it is Auto; for Auto, Texture for a deforming body, else the exact
+/// path when core's cost model (modeledMicrosecondsPerQuery) finds it the cheaper and its error
+/// (none in flat water; exactLinearizationError under waves) is within settings.autoMethodError;
+/// else core's adviseHydrostatics measures the texture path's error at the body's resolution (in
+/// flat water, times modeled): the texture path when it meets the target and is the cheaper or the
+/// exact path does not meet it, the exact path when it meets the target, else whichever errs less.
+/// Polyhedral when the mesh cannot be measured (addBody then names the mesh's defect itself).
 HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& settings, const Mesh& mesh,
                                              const LiquidSurface& surface);
 

@@ -209,3 +209,33 @@ TEST_CASE("timing reports a positive median per call", "[advisor]") {
   CHECK(std::isfinite(seconds));
   CHECK(calls >= 2 + 3);  // warm-up, probe, then at least one call per run
 }
+
+TEST_CASE("modeled times: the same advice on every run, from the cost model's figures", "[advisor][model]") {
+  // The model's own closed forms (Advisor.hpp): exact 1 + 0.02 T us, hierarchy 2 + 0.12 R us.
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 12, 0) == Approx(1.24));
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 12, 256) == Approx(32.72));
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureBruteForce, 12, 64) == Approx(2.0 + 0.02 * 64 * 64));
+  // A 2,000-triangle sphere at 64^2: the texture path is modeled cheaper (9.7 against 41 us), so a
+  // target it meets makes it the advice, whatever the machine's load; twice the same.
+  const Mesh sphere = primitives::uvSphere(1.0, 50, 21);
+  REQUIRE(sphere.triangles.size() > 1900);
+  AdvisorSettings settings;
+  settings.resolutions = {64};
+  settings.timing.modeled = true;
+  const Expected<Advice> first = adviseHydrostatics(sphere, 1e-2, settings);
+  const Expected<Advice> second = adviseHydrostatics(sphere, 1e-2, settings);
+  REQUIRE(first);
+  REQUIRE(second);
+  REQUIRE(first->candidates.size() == 2);
+  CHECK(first->candidates[0].microsecondsPerQuery ==
+        modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, sphere.triangles.size(), 0));
+  CHECK(first->candidates[1].microsecondsPerQuery == modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 0, 64));
+  CHECK(first->candidates[1].maxErrors.worst() <= 1e-2);
+  CHECK(first->best.method == HydrostaticsMethod::TextureHierarchy);
+  CHECK(second->best.method == first->best.method);
+  CHECK(second->candidates[1].maxErrors.worst() == first->candidates[1].maxErrors.worst());
+  // A target the texture path misses at 64^2 leaves the exact path, which always meets it.
+  const Expected<Advice> strict = adviseHydrostatics(sphere, 1e-9, settings);
+  REQUIRE(strict);
+  CHECK(strict->best.method == HydrostaticsMethod::Exact);
+}

@@ -129,6 +129,7 @@ Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, cons
     if (!result) return result.error();
     measurement.maxErrors.keepMax(hydrostaticsErrors(*result, references[i], scales));
   }
+  if (timing.modeled) return measurement;  // the caller sets the modeled time (it knows the method)
   const double seconds = medianSecondsPerCall(
       [&] {
         for (const HydrostaticsQuery& query : queries) timingSink = timingSink + answer(query)->submergedVolume;
@@ -136,6 +137,19 @@ Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, cons
       timing);
   measurement.microsecondsPerQuery = seconds * 1e6 / double(queries.size());
   return measurement;
+}
+
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution) {
+  const double r = double(resolution);
+  switch (method) {
+    case HydrostaticsMethod::Exact:
+      return 1.0 + 0.02 * double(triangles);
+    case HydrostaticsMethod::TextureHierarchy:
+      return 2.0 + 0.12 * r;
+    case HydrostaticsMethod::TextureBruteForce:
+      return 2.0 + 0.02 * r * r;
+  }
+  return 0.0;
 }
 
 std::size_t textureHydrostaticsBytes(const TextureHydrostatics& texture) {
@@ -186,6 +200,8 @@ Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const 
       references, scales, settings.timing);
   if (!exact) return exact.error();
   exact->method = HydrostaticsMethod::Exact;
+  if (settings.timing.modeled)
+    exact->microsecondsPerQuery = modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0);
   exact->bytes = meshBytes(mesh);
   advice.candidates.push_back(*exact);
   advice.best = *exact;
@@ -210,6 +226,8 @@ Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const 
       if (!measured) return Error{nameOf(mesh) + ": " + measured.error().message};
       measured->method = method;
       measured->resolution = resolution;
+      if (settings.timing.modeled)
+        measured->microsecondsPerQuery = modeledMicrosecondsPerQuery(method, mesh.triangles.size(), resolution);
       measured->bytes = textureHydrostaticsBytes(*texture);
       advice.candidates.push_back(*measured);
       const bool meets = measured->maxErrors.worst() <= targetError;

@@ -86,7 +86,19 @@ MassErrors massErrors(const MassProperties& answer, const MassProperties& refere
 struct TimingSettings {
   int runs = 5;                  ///< timed batches; the median is reported (>= 1)
   double batchSeconds = 0.02;    ///< wall time each batch aims at (s)
+  /// Time nothing: each candidate's time is modeledMicrosecondsPerQuery's, so that a choice made
+  /// from it is the same on every machine and every run (HydrostaticsMethod::Auto's).
+  bool modeled = false;
 };
+
+/// A model of the time of one query (us) in flat water, for choices that must not depend on the
+/// machine or its load: the exact path 1 + 0.02 T for a mesh of T triangles (it clips every
+/// triangle), the texture path's tile hierarchy 2 + 0.12 R at R texels a side (it visits the tiles
+/// the waterline crosses, about R of them; the brute force 0.02 R^2). Fitted to bench_hydrostatics
+/// on the 2-core reference machine (2026-11): the exact path 18-24 ns a triangle over icospheres of
+/// 1,280 to 327,680 triangles; the hierarchy 20-50 us at 256^2 and 175-380 us at 1024^2-2048^2.
+/// A ranking, not a prediction of one machine's time.
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution);
 
 /// Median over `settings.runs` batches of the mean wall time of one call of `work` (s), on the
 /// calling thread, after one warm-up call. A batch holds as many calls as fit in batchSeconds

@@ -137,16 +137,17 @@ enum class DeformedCollisionShape {
 enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
   Polyhedral,  ///< exact clipping of the triangle mesh (any surface; waves and grids linearized between vertices)
-  /// Resolved at addBody to Texture or Polyhedral (the report's `method` says which): core's
-  /// advisor (adviseHydrostatics) measures the texture path at the body's `resolution` against the
-  /// exact path over 20 poses in flat water, and the texture path is taken when its volume and
-  /// centre-of-buoyancy errors stay under `autoMethodError` and it is the faster; else the exact
-  /// path. Under waves the exact path linearizes the surface between vertices: when that error's
-  /// bound (surface curvature x longest edge^2 / 8 x the largest face of the bounding box, over
-  /// the volume) exceeds the target, the texture path is taken if it meets the target or errs
-  /// less; under height grids (no curvature bound) likewise. A deforming body always takes
-  /// Texture. Costs a bake and some milliseconds of timing at registration; near the crossover
-  /// the timing may choose either way from run to run.
+  /// Resolved at addBody to Texture or Polyhedral (the report's `method` says which), the same way
+  /// on every machine and run: by core's cost model (modeledMicrosecondsPerQuery: the exact path
+  /// 1 + 0.02 us a triangle, the texture path 2 + 0.12 us a texel of side), the exact path when
+  /// it is the cheaper and within `autoMethodError`, without measuring anything; otherwise core's
+  /// advisor measures the texture path at the body's `resolution` against the exact path over 20
+  /// poses in flat water (a bake), and the texture path is taken when its volume and
+  /// centre-of-buoyancy errors stay under `autoMethodError`; else the exact path. Under waves the
+  /// exact path linearizes the surface between vertices: when that error's bound (surface
+  /// curvature x longest edge^2 / 8 x the largest face of the bounding box, over the volume)
+  /// exceeds the target, the texture path is taken if it meets the target or errs less; under
+  /// height grids (no curvature bound) likewise. A deforming body always takes Texture.
   Auto,
 };
 
