@@ -10,10 +10,12 @@
 // every body is computed every step; the table prints the queries per step and the bodies' mean
 // vertical speed to show it.
 //
-// Beside the controller's figure, for the exact path, the per-step core calls on the same states,
-// timed alone (polyhedralHydrostaticsUnchecked and rigidBodyDrag with the drag patches the
-// controller makes), so that the cost splits into hydrostatics, drag and the rest (Bullet reads
-// and writes, the implicit update).
+// Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
+// states, timed alone: "exact us" polyhedralHydrostaticsUnchecked (what the controller calls),
+// "prep us" polyhedralHydrostatics on a PreparedPolyhedron and "closed" sphereHydrostatics (what
+// it could call: a sphere's closed form in flat water), "drag us" rigidBodyDrag with the drag
+// patches the controller makes; the rest of "ours" is the controller's own (Bullet reads and
+// writes, the implicit update).
 //
 // Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
 // (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
@@ -37,6 +39,8 @@
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
+#include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
@@ -133,6 +137,8 @@ struct Pass {
   double queriesPerStep = 0.0;   ///< hydrostatics queries per step (100: every body computed)
   double meanVerticalSpeed = 0.0;///< m/s, mean |v_y| over the bodies after the timed steps
   double hydrostaticsUs = 0.0;   ///< exact path alone, same states (0: not measured)
+  double preparedUs = 0.0;       ///< exact path on a PreparedPolyhedron, same states (0: not measured)
+  double closedFormUs = 0.0;     ///< a sphere's closed form (sphereHydrostatics), same states (0: not a sphere)
   double dragUs = 0.0;           ///< drag alone, same states (0: not measured)
   std::string resolved;          ///< the path the bodies run (auto resolved)
   std::size_t triangles = 0;
@@ -232,6 +238,26 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                               if (Expected<HydrostaticsResult> answer = polyhedralHydrostaticsUnchecked(*mesh, surface, query))
                                 sink += answer->buoyancyForce.y();
                         }) / (repeats * double(queries.size()));
+  // What the controller would call instead: the exact path on the mesh prepared once, and for a
+  // sphere (flat water only) its closed form.
+  const Expected<PreparedPolyhedron> polyhedron = PreparedPolyhedron::prepare(mesh);
+  if (polyhedron)
+    pass.preparedUs = 1e3 * bench::medianMs(5, [&] {
+                        for (int k = 0; k < repeats; ++k)
+                          for (const HydrostaticsQuery& query : queries)
+                            if (Expected<HydrostaticsResult> answer = polyhedralHydrostatics(*polyhedron, surface, query))
+                              sink += answer->buoyancyForce.y();
+                      }) / (repeats * double(queries.size()));
+  if (prototype.shape && prototype.shape->type == SceneShape::Type::Sphere && surface.flatHeight()) {
+    const int sphereRepeats = 200;
+    pass.closedFormUs = 1e3 * bench::medianMs(5, [&] {
+                          for (int k = 0; k < sphereRepeats; ++k)
+                            for (const HydrostaticsQuery& query : queries)
+                              if (Expected<HydrostaticsResult> answer =
+                                      sphereHydrostatics(prototype.shape->radius, Eigen::Vector3d::Zero(), surface, query))
+                                sink += answer->buoyancyForce.y();
+                        }) / (sphereRepeats * double(queries.size()));
+  }
   if (c.drag) {
     // The drag patches as the controller makes them (FloatingBodySettings' defaults: cosine 0.9,
     // radius 0.2 of the largest extent, from the 256^2 bake).
@@ -283,12 +309,13 @@ int main(int argc, char** argv) {
   }
   std::ofstream csv(csvPath);
   csv << "body,triangles,method,resolved,surface,effects,runs,bodies,controller_us_per_body_step,peer,peer_us,goal_us,"
-         "ratio_to_goal,exact_hydrostatics_us,drag_us,queries_per_step,mean_abs_vy\n";
+         "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,queries_per_step,mean_abs_vy\n";
   std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
               "of %d steps\n",
               kBodies, runs, steps);
-  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s\n", "body", "tris", "method", "runs as",
-              "water", "effects", "ours us", "peer", "goal us", "ratio", "hydro us", "drag us", "query/st", "|vy| m/s");
+  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %8s %8s\n", "body", "tris", "method",
+              "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed", "drag us",
+              "query/st", "|vy| m/s");
   std::map<std::string, double> flatFigure;
   for (const std::string& surface : surfaces) {
     const Scene& scene = scenes.at(surface);
@@ -310,12 +337,14 @@ int main(int argc, char** argv) {
       for (const std::string& method : methods) {
         for (const bool drag : {false, true}) {
           const Case c{bodyName, method, surface, drag};
-          std::vector<double> ours, hydro, dragUs, queries, speeds;
+          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, queries, speeds;
           Pass last;
           for (int r = 0; r < runs; ++r) {
             last = runPass(scene, *prototype, *mesh, c, steps);
             ours.push_back(last.controllerUs);
             hydro.push_back(last.hydrostaticsUs);
+            preparedUs.push_back(last.preparedUs);
+            closedUs.push_back(last.closedFormUs);
             dragUs.push_back(last.dragUs);
             queries.push_back(last.queriesPerStep);
             speeds.push_back(last.meanVerticalSpeed);
@@ -334,14 +363,15 @@ int main(int argc, char** argv) {
           }
           const double ratio = goal > 0.0 ? figure / goal : 0.0;
           const char* effects = drag ? "buoyancy+drag" : "buoyancy";
-          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.1f %8.3f\n", bodyName.c_str(),
-                      last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects, figure,
-                      peerText.c_str(), goal, ratio, median(hydro), median(dragUs), median(queries), median(speeds));
+          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %8.1f %8.3f\n",
+                      bodyName.c_str(), last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects,
+                      figure, peerText.c_str(), goal, ratio, median(hydro), median(preparedUs), median(closedUs),
+                      median(dragUs), median(queries), median(speeds));
           std::fflush(stdout);
           csv << bodyName << ',' << last.triangles << ',' << method << ',' << last.resolved << ',' << surface << ','
               << effects << ',' << runs << ',' << kBodies << ',' << figure << ',' << peerText << ',' << peerUs << ','
-              << goal << ',' << ratio << ',' << median(hydro) << ',' << median(dragUs) << ',' << median(queries) << ','
-              << median(speeds) << '\n';
+              << goal << ',' << ratio << ',' << median(hydro) << ',' << median(preparedUs) << ',' << median(closedUs) << ','
+              << median(dragUs) << ',' << median(queries) << ',' << median(speeds) << '\n';
         }
       }
     }
