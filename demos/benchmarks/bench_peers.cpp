@@ -14,7 +14,8 @@
 // states, timed alone: "exact us" polyhedralHydrostaticsUnchecked (what the controller calls),
 // "prep us" polyhedralHydrostatics on a PreparedPolyhedron and "closed" sphereHydrostatics (what
 // it could call: a sphere's closed form in flat water), "drag us" rigidBodyDrag with the drag
-// patches the controller makes; the rest of "ours" is the controller's own (Bullet reads and
+// patches the controller makes (from the 256^2 bake), "mdrag us" the same on meshDragPatches
+// (what it could make for an exact-path body, no bake); the rest of "ours" is the controller's own (Bullet reads and
 // writes, the implicit update).
 //
 // Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
@@ -38,6 +39,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
@@ -140,6 +142,8 @@ struct Pass {
   double preparedUs = 0.0;       ///< exact path on a PreparedPolyhedron, same states (0: not measured)
   double closedFormUs = 0.0;     ///< a sphere's closed form (sphereHydrostatics), same states (0: not a sphere)
   double dragUs = 0.0;           ///< drag alone, same states (0: not measured)
+  double meshDragUs = 0.0;       ///< drag alone on meshDragPatches (same settings), same states
+  std::size_t texelPatches = 0, meshPatches = 0;  ///< drag patches: the controller's (from the bake), meshDragPatches'
   std::string resolved;          ///< the path the bodies run (auto resolved)
   std::size_t triangles = 0;
 };
@@ -282,6 +286,21 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                         for (const RigidBodyMotion& motion : motions)
                           sink += rigidBodyDrag(dragBody, motion, liquid, scene.dt).force.y();
                     }) / (dragRepeats * double(motions.size()));
+      // The same law on patches made from the mesh's triangles (meshDragPatches, same settings).
+      const std::vector<DragPatch> meshPatches = meshDragPatches(*mesh, 0.9, 0.2 * referenceLength);
+      const DragPatchSet meshPrepared = prepareDragPatches(meshPatches);
+      DragBody meshBody = dragBody;
+      meshBody.patches = meshPatches;
+      meshBody.prepared = &meshPrepared;
+      meshBody.totalPatchArea = 0.0;
+      for (const DragPatch& patch : meshPatches) meshBody.totalPatchArea += patch.area;
+      pass.meshDragUs = 1e3 * bench::medianMs(5, [&] {
+                          for (int k = 0; k < dragRepeats; ++k)
+                            for (const RigidBodyMotion& motion : motions)
+                              sink += rigidBodyDrag(meshBody, motion, liquid, scene.dt).force.y();
+                        }) / (dragRepeats * double(motions.size()));
+      pass.texelPatches = patches.size();
+      pass.meshPatches = meshPatches.size();
     }
   }
   if (sink == 12345.678) std::printf(" ");  // keeps the sums alive
@@ -309,13 +328,14 @@ int main(int argc, char** argv) {
   }
   std::ofstream csv(csvPath);
   csv << "body,triangles,method,resolved,surface,effects,runs,bodies,controller_us_per_body_step,peer,peer_us,goal_us,"
-         "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,queries_per_step,mean_abs_vy\n";
+         "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,texel_patches,mesh_patch_drag_us,"
+         "mesh_patches,queries_per_step,mean_abs_vy\n";
   std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
               "of %d steps\n",
               kBodies, runs, steps);
-  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %8s %8s\n", "body", "tris", "method",
+  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %8s %7s\n", "body", "tris", "method",
               "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed", "drag us",
-              "query/st", "|vy| m/s");
+              "mdrag us", "query/st", "|vy|m/s");
   std::map<std::string, double> flatFigure;
   for (const std::string& surface : surfaces) {
     const Scene& scene = scenes.at(surface);
@@ -337,7 +357,7 @@ int main(int argc, char** argv) {
       for (const std::string& method : methods) {
         for (const bool drag : {false, true}) {
           const Case c{bodyName, method, surface, drag};
-          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, queries, speeds;
+          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, queries, speeds;
           Pass last;
           for (int r = 0; r < runs; ++r) {
             last = runPass(scene, *prototype, *mesh, c, steps);
@@ -346,6 +366,7 @@ int main(int argc, char** argv) {
             preparedUs.push_back(last.preparedUs);
             closedUs.push_back(last.closedFormUs);
             dragUs.push_back(last.dragUs);
+            meshDragUs.push_back(last.meshDragUs);
             queries.push_back(last.queriesPerStep);
             speeds.push_back(last.meanVerticalSpeed);
           }
@@ -363,15 +384,16 @@ int main(int argc, char** argv) {
           }
           const double ratio = goal > 0.0 ? figure / goal : 0.0;
           const char* effects = drag ? "buoyancy+drag" : "buoyancy";
-          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %8.1f %8.3f\n",
+          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %8.1f %7.3f\n",
                       bodyName.c_str(), last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects,
                       figure, peerText.c_str(), goal, ratio, median(hydro), median(preparedUs), median(closedUs),
-                      median(dragUs), median(queries), median(speeds));
+                      median(dragUs), median(meshDragUs), median(queries), median(speeds));
           std::fflush(stdout);
           csv << bodyName << ',' << last.triangles << ',' << method << ',' << last.resolved << ',' << surface << ','
               << effects << ',' << runs << ',' << kBodies << ',' << figure << ',' << peerText << ',' << peerUs << ','
               << goal << ',' << ratio << ',' << median(hydro) << ',' << median(preparedUs) << ',' << median(closedUs) << ','
-              << median(dragUs) << ',' << median(queries) << ',' << median(speeds) << '\n';
+              << median(dragUs) << ',' << last.texelPatches << ',' << median(meshDragUs) << ',' << last.meshPatches << ','
+              << median(queries) << ',' << median(speeds) << '\n';
         }
       }
     }
