@@ -30,7 +30,10 @@ struct TriangleConstants {
 };
 static_assert(sizeof(TriangleConstants) == 13 * sizeof(double));
 
-/// The constants of triangle (a, b, c).
+/// The constants of triangle (a, b, c). Inline (out of line it cost the exact path 10 %: the
+/// 162-vertex hull 6.3 -> 6.9 us plain, 4.8 -> 5.4 us prepared, same machine and load): the
+/// prepared and the plain path get the same bits as long as the build does not contract their
+/// multiply-adds differently (no -march with FMA here; test_prepared_polyhedron checks the bits).
 inline TriangleConstants triangleConstants(const double a[3], const double b[3], const double c[3]) {
   TriangleConstants k;
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
