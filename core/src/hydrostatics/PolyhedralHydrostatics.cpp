@@ -247,10 +247,12 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
     if (under == 0) continue;
     const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
                           positions[std::size_t(tri[2])].data()};
-    if (under == 3)
-      m.add(up, prepared ? constants[t] : triangleConstants(p[0], p[1], p[2]));
-    else
+    if (under != 3)
       m.addCut(up, p, depth, under);
+    else if (prepared)
+      m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
+    else
+      m.add(up, triangleConstants(p[0], p[1], p[2]));
   }
 
   // To the world sums about o = (t_x, h, t_z), with x' = R p + b, b = t - o: Sum x' a_up =
