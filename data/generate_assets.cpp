@@ -470,6 +470,9 @@ int main(int argc, char** argv) {
   assets.push_back({"box", prim::box(Vector3d(1.0, 1.0, 1.0)), {}, 0});
   // Sphere of radius 0.5 m.
   assets.push_back({"sphere", prim::uvSphere(0.5, 48, 24), {}, 0});
+  // A 162-vertex, 320-face convex hull (icosphere of subdivision 2, radius 0.5 m): the hull of the
+  // peer figures (docs/references.md "Peers": Jolt's 162-vertex hull; data/scenes/peers_*.json).
+  assets.push_back({"hull162", prim::icosphere(0.5, 2), {}, 0});
   // Spar buoy: a vertical cylinder, radius 0.4 m, 2 m tall, centred at the origin.
   assets.push_back({"buoy", transformed(prim::cylinder(0.4, 2.0, 48), upright, Vector3d::Zero()), buoyAlbedo, 256});
   // Log: a horizontal cylinder (axis along z), radius 0.25 m, 3 m long.

@@ -276,7 +276,7 @@ TEST_CASE("scene files: errors name the key or file", "[scene]") {
              Catch::Contains("fluid.surface.type"));
   CHECK_THAT(error(R"({"fluid": {}})"), Catch::Contains("bodies"));
   CHECK_THAT(error("{not json"), Catch::Contains("not valid JSON"));
-  for (const char* name : {"box_floating.json", "log_waves.json", "balloon_air.json"}) {
+  for (const char* name : {"box_floating.json", "log_waves.json", "balloon_air.json", "peers_flat.json", "peers_waves.json"}) {
     CAPTURE(name);
     CHECK(loadScene(base + "/" + name).ok());
   }

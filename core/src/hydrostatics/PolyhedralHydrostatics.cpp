@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: Zlib
 /// @file PolyhedralHydrostatics.cpp
-/// Exact hydrostatics of a closed triangle mesh: each triangle is clipped against the water plane
-/// (taken to the body frame, so vertices are never transformed) and the wetted part's moments
-/// Sum A, Sum p A^T, Sum p p^T A_k are integrated exactly (the edge-midpoint rule is exact for
-/// quadratics on a triangle: Strang and Fix 1973, table 4.1). HydrostaticSums turns the moments
-/// into volume, centre of buoyancy and water plane (divergence theorem; Mirtich 1996, "Fast and
+/// Exact hydrostatics of a closed triangle mesh. Under a flat surface (flatPolyhedralHydrostatics)
+/// the water plane is taken to the body frame (vertices are never transformed), each vertex's depth
+/// is found once, wholly dry triangles are skipped, wholly wet ones add their constant moments
+/// weighted by the upward component of their area vector, and cut ones are clipped first; the
+/// moments are exact (the edge-midpoint rule is exact for quadratics on a triangle: Strang and Fix
+/// 1973, table 4.1) and HydrostaticSums turns them into volume, centre of buoyancy and water plane
+/// (divergence theorem with fields that vanish on the water plane, so the cap is never built: the
+/// classic scheme of signed tetrahedra with their apex on the plane; Mirtich 1996, "Fast and
 /// accurate computation of polyhedral mass properties", for the same idea on the whole body).
 /// Under waves and height grids (issue 19 item 2) the depth below the local surface is taken at
 /// each vertex and linear over each triangle, the triangle is clipped where it changes sign, and
@@ -21,6 +24,7 @@
 #include <vector>
 
 #include "hydrostatics/HydrostaticSums.hpp"
+#include "hydrostatics/PolyhedralFlatSums.hpp"
 #include "hydrotex/mesh/MeshValidation.hpp"
 
 namespace hydrotex {
@@ -32,10 +36,6 @@ using Moments = TextureHydrostatics::Moments;
 struct Point {
   double x, y, z;
 };
-
-inline Point lerp(const Point& a, const Point& b, double t) {
-  return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
-}
 
 /// Exact moments of one triangle (counter-clockwise seen from outside).
 inline void addTriangle(Moments& m, const Point& a, const Point& b, const Point& c) {
@@ -66,29 +66,53 @@ inline void addTriangle(Moments& m, const Point& a, const Point& b, const Point&
   }
 }
 
-/// Adds the part of triangle (a, b, c) where depth > 0; depths are linear over the triangle.
-inline void addClippedTriangle(Moments& m, const Point p[3], const double depth[3]) {
-  const bool under[3] = {depth[0] > 0.0, depth[1] > 0.0, depth[2] > 0.0};
-  const int count = int(under[0]) + int(under[1]) + int(under[2]);
-  if (count == 0) return;
-  if (count == 3) {
-    addTriangle(m, p[0], p[1], p[2]);
-    return;
+/// The 10 upward-weighted body moments of a wetted surface (PolyhedralFlatSums.hpp): Sum |A|
+/// (m^2), Sum a_up (m^2), Sum p a_up (m^3), Sum p p^T a_up (m^4; xx, xy, xz, yy, yz, zz).
+struct UpwardMoments {
+  double sumArea = 0.0;
+  double sumAUp = 0.0;
+  double sumPAUp[3] = {0, 0, 0};
+  double sumPPAUp[6] = {0, 0, 0, 0, 0, 0};
+
+  /// Adds a wholly wet piece of the surface given by its constants; `up` is r1 in the body frame.
+  inline void add(const double up[3], const detail::TriangleConstants& k) {
+    const double aUp = up[0] * k.areaVector[0] + up[1] * k.areaVector[1] + up[2] * k.areaVector[2];
+    sumArea += k.area;
+    sumAUp += aUp;
+    for (int i = 0; i < 3; ++i) sumPAUp[i] += k.centroid[i] * aUp;
+    for (int pair = 0; pair < 6; ++pair) sumPPAUp[pair] += k.secondMoments[pair] * aUp;
   }
-  // Rotate the corners (keeping orientation) so that corner i is the odd one out.
-  int i = 0;
-  for (int k = 0; k < 3; ++k)
-    if (under[k] == (count == 1)) i = k;
-  const int j = (i + 1) % 3, k = (i + 2) % 3;
-  const Point qij = lerp(p[i], p[j], depth[i] / (depth[i] - depth[j]));
-  const Point qik = lerp(p[i], p[k], depth[i] / (depth[i] - depth[k]));
-  if (count == 1) {
-    addTriangle(m, p[i], qij, qik);
-  } else {
-    // Corner i is over: the wetted part is the quad qij, p[j], p[k], qik.
-    addTriangle(m, qij, p[j], p[k]);
-    addTriangle(m, qij, p[k], qik);
+
+  /// Adds the part of the triangle with corners p[0..2] (counter-clockwise from outside) where the
+  /// depth, linear over it and given at the corners, is positive: the triangle or quadrilateral
+  /// under the water line. `under` corners of the three have depth > 0 (1 or 2: it is cut).
+  inline void addCut(const double up[3], const double* p[3], const double depth[3], int under) {
+    // Rotate the corners (keeping orientation) so that corner i is the odd one out.
+    int i = 0;
+    for (int k = 0; k < 3; ++k)
+      if ((depth[k] > 0.0) == (under == 1)) i = k;
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    const double tj = depth[i] / (depth[i] - depth[j]), tk = depth[i] / (depth[i] - depth[k]);
+    double qij[3], qik[3];
+    for (int c = 0; c < 3; ++c) {
+      qij[c] = p[i][c] + (p[j][c] - p[i][c]) * tj;
+      qik[c] = p[i][c] + (p[k][c] - p[i][c]) * tk;
+    }
+    if (under == 1) {
+      add(up, detail::triangleConstants(p[i], qij, qik));
+    } else {
+      // Corner i is over: the wetted part is the quad qij, p[j], p[k], qik.
+      add(up, detail::triangleConstants(qij, p[j], p[k]));
+      add(up, detail::triangleConstants(qij, p[k], qik));
+    }
   }
+};
+
+/// Per-thread scratch of one depth per vertex under a flat surface (grows to the largest mesh the
+/// thread has seen and is reused: a step allocates nothing).
+std::vector<double>& vertexDepthScratch() {
+  thread_local std::vector<double> scratch;
+  return scratch;
 }
 
 /// A vertex in the world frame translated to the frame origin o (m), and its depth below the
@@ -196,6 +220,73 @@ bool indicesInRange(const Mesh& mesh) {
 
 }  // namespace
 
+Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh,
+                                                                std::span<const TriangleConstants> constants,
+                                                                double level, double density,
+                                                                const HydrostaticsQuery& query) {
+  // The water plane in the body frame: depth(p) = (h - t_y) - r1 . p, once per vertex; a triangle
+  // with no corner under it costs three loads and compares, a wholly wet one its constants' 13
+  // multiply-adds, and only the cut ones are clipped (as Jolt's and Kerner's buoyancy do).
+  const Eigen::Matrix3d& rotation = query.pose.rotation;
+  const Eigen::Vector3d& translation = query.pose.translation;
+  const double up[3] = {rotation(1, 0), rotation(1, 1), rotation(1, 2)};
+  const double bodyLevel = level - translation.y();
+  const auto& positions = mesh.positions;
+  std::vector<double>& depths = vertexDepthScratch();
+  depths.resize(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const Eigen::Vector3d& p = positions[v];
+    depths[v] = bodyLevel - (up[0] * p.x() + up[1] * p.y() + up[2] * p.z());
+  }
+  const bool prepared = constants.size() == mesh.triangles.size();
+  UpwardMoments m;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Eigen::Vector3i& tri = mesh.triangles[t];
+    const double depth[3] = {depths[std::size_t(tri[0])], depths[std::size_t(tri[1])], depths[std::size_t(tri[2])]};
+    const int under = int(depth[0] > 0.0) + int(depth[1] > 0.0) + int(depth[2] > 0.0);
+    if (under == 0) continue;
+    const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
+                          positions[std::size_t(tri[2])].data()};
+    if (under != 3)
+      m.addCut(up, p, depth, under);
+    else if (prepared)
+      m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
+    else
+      m.add(up, triangleConstants(p[0], p[1], p[2]));
+  }
+
+  // To the world sums about o = (t_x, h, t_z), with x' = R p + b, b = t - o: Sum x' a_up =
+  // R P + b W and Sum x' x'^T a_up = R S R^T + b (R P)^T + (R P) b^T + b b^T W (W = Sum a_up,
+  // P = Sum p a_up, S = Sum p p^T a_up); on the wetted surface D = -y', Q = y'^2, h' = 0
+  // (HydrostaticSums.hpp): the y column of WettedSums::addSubmergedMoments, all a flat surface reads.
+  const Eigen::Vector3d origin(translation.x(), level, translation.z());
+  const Eigen::Vector3d b = translation - origin;
+  const Eigen::Vector3d rp = rotation * Eigen::Vector3d(m.sumPAUp[0], m.sumPAUp[1], m.sumPAUp[2]);
+  Eigen::Matrix3d s;
+  s << m.sumPPAUp[0], m.sumPPAUp[1], m.sumPPAUp[2], m.sumPPAUp[1], m.sumPPAUp[3], m.sumPPAUp[4], m.sumPPAUp[2],
+      m.sumPPAUp[4], m.sumPPAUp[5];
+  const double w = m.sumAUp;
+  const Eigen::Vector3d w1 = rp + b * w;
+  const Eigen::Matrix3d w2 =
+      rotation * s * rotation.transpose() + b * rp.transpose() + rp * b.transpose() + (b * b.transpose()) * w;
+  WettedSums sums;
+  sums.sumDA[1] = -w1.y();
+  sums.sumDXAy = -w2(0, 1);
+  sums.sumDZAy = -w2(2, 1);
+  sums.sumYB = 0.5 * w2(1, 1);
+  sums.sumAy = w;
+  sums.sumXAy = w1.x();
+  sums.sumZAy = w1.z();
+  sums.sumXXAy = w2(0, 0);
+  sums.sumXZAy = w2(0, 2);
+  sums.sumZZAy = w2(2, 2);
+  sums.wettedArea = m.sumArea;
+  HydrostaticsResult result = finishHydrostatics(sums, origin, density, query, ForceModel::Archimedes, true);
+  if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
+    return Error{"exact hydrostatics: non-finite result (a vertex of the mesh is NaN or infinite)"};
+  return result;
+}
+
 Status checkClosedMesh(const Mesh& mesh) {
   // One closedness check in the project: MeshValidation's, without its UV work.
   return requireClosed(validateMesh(mesh, false), mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName);
@@ -217,6 +308,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
   const std::optional<double> flat = surface.flatHeight();
   if (mesh.triangles.empty()) return Error{"exact hydrostatics: the mesh has no triangles"};
   if (!indicesInRange(mesh)) return Error{"exact hydrostatics: a triangle index is out of range"};
+  if (flat) return detail::flatPolyhedralHydrostatics(mesh, {}, *flat, surface.density(), query);
 
   const Eigen::Matrix3d& rotation = query.pose.rotation;
   const Eigen::Vector3d& translation = query.pose.translation;
@@ -225,23 +317,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
   detail::WettedSums sums;
   Eigen::Vector3d origin;
 
-  if (flat) {
-    // The water plane in the body frame: depth(p) = (h - t_y) - r . p with r the rotation's y row.
-    const double level = *flat - translation.y();
-    const double rx = rotation(1, 0), ry = rotation(1, 1), rz = rotation(1, 2);
-    for (const Eigen::Vector3i& t : mesh.triangles) {
-      Point p[3];
-      double depth[3];
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::Vector3d& v = positions[t[c]];
-        p[c] = {v.x(), v.y(), v.z()};
-        depth[c] = level - (rx * v.x() + ry * v.y() + rz * v.z());
-      }
-      addClippedTriangle(moments, p, depth);
-    }
-    origin = Eigen::Vector3d(translation.x(), *flat, translation.z());
-    sums.addSubmergedMoments(moments, rotation, translation - origin);
-  } else if (surface.hasFreeSurface()) {
+  if (surface.hasFreeSurface()) {
     // Waves, height grids: the surface asked once per vertex (of the triangles that may be wet),
     // the depth taken linear over each triangle between its vertices (so the surface is
     // linearized between vertices: an O(edge^2 curvature) difference from the true surface), and
@@ -311,8 +387,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
   }
 
   HydrostaticsResult result = detail::finishHydrostatics(
-      sums, origin, surface.density(), query, flat ? detail::ForceModel::Archimedes : detail::ForceModel::PressureSums,
-      surface.hasFreeSurface());
+      sums, origin, surface.density(), query, detail::ForceModel::PressureSums, surface.hasFreeSurface());
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
     return Error{"exact hydrostatics: non-finite result (a vertex of the mesh is NaN or infinite)"};
   return result;

@@ -39,10 +39,13 @@ Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const Liqu
                                                     const HydrostaticsQuery& query);
 
 /// As polyhedralHydrostatics() without the closedness check (the caller vouches for it; indices
-/// are still range-checked). Allocation-free under a flat surface or a medium; under 20 ns per
-/// triangle is the goal there (bench_hydrostatics). Under other free surfaces a per-thread scratch
-/// of one entry per vertex (32 bytes) grows to the largest mesh the thread has seen and is reused;
-/// the cost is then dominated by the surface's height queries, one per vertex that may be wet.
+/// are still range-checked, once per call). Allocation-free in a medium; under a flat surface a
+/// per-thread scratch of one depth per vertex (8 bytes) grows to the largest mesh the thread has
+/// seen and is reused; under 20 ns per triangle is the goal there (bench_hydrostatics). A body
+/// queried every step is faster still on a PreparedPolyhedron (PreparedPolyhedron.hpp: the checks
+/// made once, each triangle's constants kept; the same bits). Under other free surfaces a
+/// per-thread scratch of one entry per vertex (32 bytes) grows likewise; the cost is then
+/// dominated by the surface's height queries, one per vertex that may be wet.
 Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
 

@@ -1,0 +1,402 @@
+// SPDX-License-Identifier: Zlib
+// bench_peers: what a simple body costs against a peer engine (issue 19: "a simple body costs no
+// more than in Jolt"). 100 awake bodies of one kind in a Bullet world at 60 Hz, one thread
+// (ControllerSettings::threads = 1), flat water and three Gerstner waves, buoyancy and buoyancy +
+// drag, each hydrostatics path (exact, texture 256^2, auto); the figure is the controller's
+// updateAction per body per step (us), the median of --runs passes (default 5), each pass a fresh
+// world. The bodies and the liquids are data/scenes/peers_flat.json and peers_waves.json (shared
+// with the tests): each template body there is registered 100 times on a grid, released off its
+// equilibrium (heights and tilts varied per body) and kept awake (DISABLE_DEACTIVATION), so that
+// every body is computed every step; the table prints the queries per step and the bodies' mean
+// vertical speed to show it.
+//
+// Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
+// states, timed alone: "exact us" polyhedralHydrostaticsUnchecked (what the controller calls),
+// "prep us" polyhedralHydrostatics on a PreparedPolyhedron and "closed" sphereHydrostatics (what
+// it could call: a sphere's closed form in flat water), "drag us" rigidBodyDrag with the drag
+// patches the controller makes (from the 256^2 bake), "mdrag us" the same on meshDragPatches
+// (what it could make for an exact-path body, no bake); the rest of "ours" is the controller's own (Bullet reads and
+// writes, the implicit update).
+//
+// Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
+// (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
+// --surfaces LIST (flat,waves).
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "BenchmarkTiming.hpp"
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/bullet/ShapeMesh.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
+#include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
+#include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/step/RigidBodyStep.hpp"
+
+using namespace hydrotex;
+using namespace hydrotex::bullet;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Jolt Physics 5.5.1, Body::ApplyBuoyancyImpulse, 100 awake bodies at 60 Hz, one thread, per body
+// per step, measured on this kind of machine (docs/references.md "Peers"): buoyancy alone / with
+// its drag (us). Jolt gives the sphere (closed form) only without drag; its figure stands for both.
+// Jolt refuses meshes; the goal of a 256^2-class mesh under auto is issue 19's 10 us.
+struct PeerFigure {
+  const char* body;
+  double buoyancyUs, dragUs;
+  const char* source;
+};
+constexpr PeerFigure kPeers[] = {
+    {"box", 0.15, 0.17, "Jolt"},
+    {"hull", 3.5, 3.6, "Jolt"},
+    {"sphere", 0.07, 0.07, "Jolt"},
+    {"mesh", 10.0, 10.0, "goal"},
+};
+
+/// Wraps the controller to time its updateAction alone.
+class TimedAction : public btActionInterface {
+ public:
+  explicit TimedAction(btActionInterface& inner) : inner_(inner) {}
+  void updateAction(btCollisionWorld* world, btScalar dt) override {
+    const auto start = Clock::now();
+    inner_.updateAction(world, dt);
+    seconds += std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  void debugDraw(btIDebugDraw* drawer) override { inner_.debugDraw(drawer); }
+  double seconds = 0.0;
+
+ private:
+  btActionInterface& inner_;
+};
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream stream(list);
+  for (std::string item; std::getline(stream, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string option(int argc, char** argv, const std::string& flag, const std::string& fallback) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (argv[i] == flag) return argv[i + 1];
+  return fallback;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+Eigen::Vector3d eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+
+/// The mesh a template body floats as: its Bullet primitive meshed as the controller meshes a
+/// collision shape (meshFromCollisionShape, default tessellation), or its mesh file. Made once and
+/// shared by the 100 copies, as a game shares one mesh among crates of a kind.
+Expected<std::shared_ptr<const Mesh>> templateMesh(const SceneBody& body) {
+  if (body.shape) {
+    std::unique_ptr<btCollisionShape> shape;
+    if (body.shape->type == SceneShape::Type::Box)
+      shape = std::make_unique<btBoxShape>(btVector3(btScalar(body.shape->halfExtents.x()), btScalar(body.shape->halfExtents.y()),
+                                                     btScalar(body.shape->halfExtents.z())));
+    else if (body.shape->type == SceneShape::Type::Sphere)
+      shape = std::make_unique<btSphereShape>(btScalar(body.shape->radius));
+    else
+      return Error{body.name + ": bench_peers takes box and sphere shapes only"};
+    Expected<Mesh> mesh = meshFromCollisionShape(*shape);
+    if (!mesh) return mesh.error();
+    return std::make_shared<const Mesh>(std::move(mesh).value());
+  }
+  Expected<Mesh> mesh = loadMesh(body.meshPath, body.load);
+  if (!mesh) return mesh.error();
+  return std::make_shared<const Mesh>(std::move(mesh).value());
+}
+
+struct Case {
+  std::string body, method, surface;
+  bool drag = false;
+};
+
+struct Pass {
+  double controllerUs = 0.0;     ///< per body per step
+  double queriesPerStep = 0.0;   ///< hydrostatics queries per step (100: every body computed)
+  double meanVerticalSpeed = 0.0;///< m/s, mean |v_y| over the bodies after the timed steps
+  double hydrostaticsUs = 0.0;   ///< exact path alone, same states (0: not measured)
+  double preparedUs = 0.0;       ///< exact path on a PreparedPolyhedron, same states (0: not measured)
+  double closedFormUs = 0.0;     ///< a sphere's closed form (sphereHydrostatics), same states (0: not a sphere)
+  double dragUs = 0.0;           ///< drag alone, same states (0: not measured)
+  double meshDragUs = 0.0;       ///< drag alone on meshDragPatches (same settings), same states
+  std::size_t texelPatches = 0, meshPatches = 0;  ///< drag patches: the controller's (from the bake), meshDragPatches'
+  std::string resolved;          ///< the path the bodies run (auto resolved)
+  std::size_t triangles = 0;
+};
+
+constexpr int kBodies = 100;
+
+Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_ptr<const Mesh>& mesh, const Case& c,
+             int steps) {
+  Scene scene = base;
+  scene.sourceName = "bench_peers";
+  scene.threads = 1;
+  scene.backend = "cpu";
+  scene.bodies.clear();
+  Eigen::Vector3d lower = mesh->positions.front(), upper = lower;
+  for (const Eigen::Vector3d& p : mesh->positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  const double spacing = (upper - lower).maxCoeff() + 1.0;
+  for (int i = 0; i < kBodies; ++i) {
+    SceneBody body = prototype;
+    body.name = prototype.name + std::to_string(i);
+    body.mesh = mesh;
+    body.shape.reset();
+    body.method = c.method == "exact"     ? HydrostaticsMethod::Polyhedral
+                  : c.method == "texture" ? HydrostaticsMethod::Texture
+                                          : HydrostaticsMethod::Auto;
+    body.resolution = 256;
+    body.effects = c.drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy};
+    // Off equilibrium, each body its own way: heights 0..0.08 m apart, tilts and headings varied.
+    body.position += Eigen::Vector3d(spacing * (i % 10), 0.02 * (i % 5) - 0.04, spacing * (i / 10));
+    body.rotationDegrees += Eigen::Vector3d(2.0 * (i % 3), 37.0 * i, 1.5 * (i % 4));
+    scene.bodies.push_back(body);
+  }
+  auto created = SceneWorld::create(scene);
+  if (!created) {
+    std::fprintf(stderr, "bench_peers: %s\n", created.error().message.c_str());
+    std::exit(1);
+  }
+  SceneWorld& world = **created;
+  for (btRigidBody* body : world.bodies()) body->setActivationState(DISABLE_DEACTIVATION);
+  BuoyancyController& controller = world.controller();
+  TimedAction timed(controller);
+  world.world().removeAction(&controller);
+  world.world().addAction(&timed);
+  for (int i = 0; i < 10; ++i) world.step();
+  timed.seconds = 0.0;
+  const ControllerStatistics before = controller.statistics();
+  for (int i = 0; i < steps; ++i) world.step();
+  world.world().removeAction(&timed);
+  world.world().addAction(&controller);
+  Pass pass;
+  pass.controllerUs = 1e6 * timed.seconds / (double(steps) * kBodies);
+  pass.queriesPerStep = double(controller.statistics().hydrostaticsQueries - before.hydrostaticsQueries) / steps;
+  pass.triangles = mesh->triangles.size();
+  const FloatingBodyReport* first = controller.report(world.bodies().front());
+  pass.resolved = first && first->method == HydrostaticsMethod::Polyhedral ? "exact" : "texture";
+
+  // The same states, the core calls alone (exact path): poses and velocities now.
+  std::vector<HydrostaticsQuery> queries;
+  std::vector<RigidBodyMotion> motions;
+  for (btRigidBody* body : world.bodies()) {
+    pass.meanVerticalSpeed += std::abs(body->getLinearVelocity().y()) / kBodies;
+    const FloatingBodyReport* report = controller.report(body);
+    const std::optional<btTransform> meshWorld = controller.meshTransform(body);
+    if (report == nullptr || !meshWorld) continue;
+    Pose pose;
+    const btMatrix3x3& basis = meshWorld->getBasis();
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) pose.rotation(r, k) = basis[r][k];
+    pose.translation = eigen(meshWorld->getOrigin());
+    HydrostaticsQuery query;
+    query.pose = pose;
+    query.gravity = 9.81;
+    query.centerOfMass = report->massProperties.centerOfMass;
+    query.time = controller.time();
+    query.mass = report->massProperties.mass;
+    queries.push_back(query);
+    RigidBodyMotion motion;
+    motion.meshPose = pose;
+    motion.center = eigen(body->getCenterOfMassPosition());
+    motion.linearVelocity = eigen(body->getLinearVelocity());
+    motion.angularVelocity = eigen(body->getAngularVelocity());
+    motion.mass = report->massProperties.mass;
+    motion.inertiaWorld = pose.rotation * report->massProperties.inertia * pose.rotation.transpose();
+    motions.push_back(motion);
+  }
+  if (pass.resolved != "exact" || queries.empty()) return pass;
+  const LiquidSurface& surface = *controller.liquid().surface;
+  double sink = 0.0;
+  // Each call timed in batches over all the bodies, batches of about 2 ms, median of 5.
+  const int repeats = std::max(1, int(200000 / (mesh->triangles.size() * queries.size())));
+  pass.hydrostaticsUs = 1e3 * bench::medianMs(5, [&] {
+                          for (int k = 0; k < repeats; ++k)
+                            for (const HydrostaticsQuery& query : queries)
+                              if (Expected<HydrostaticsResult> answer = polyhedralHydrostaticsUnchecked(*mesh, surface, query))
+                                sink += answer->buoyancyForce.y();
+                        }) / (repeats * double(queries.size()));
+  // What the controller would call instead: the exact path on the mesh prepared once, and for a
+  // sphere (flat water only) its closed form.
+  const Expected<PreparedPolyhedron> polyhedron = PreparedPolyhedron::prepare(mesh);
+  if (polyhedron)
+    pass.preparedUs = 1e3 * bench::medianMs(5, [&] {
+                        for (int k = 0; k < repeats; ++k)
+                          for (const HydrostaticsQuery& query : queries)
+                            if (Expected<HydrostaticsResult> answer = polyhedralHydrostatics(*polyhedron, surface, query))
+                              sink += answer->buoyancyForce.y();
+                      }) / (repeats * double(queries.size()));
+  if (prototype.shape && prototype.shape->type == SceneShape::Type::Sphere && surface.flatHeight()) {
+    const int sphereRepeats = 200;
+    pass.closedFormUs = 1e3 * bench::medianMs(5, [&] {
+                          for (int k = 0; k < sphereRepeats; ++k)
+                            for (const HydrostaticsQuery& query : queries)
+                              if (Expected<HydrostaticsResult> answer =
+                                      sphereHydrostatics(prototype.shape->radius, Eigen::Vector3d::Zero(), surface, query))
+                                sink += answer->buoyancyForce.y();
+                        }) / (sphereRepeats * double(queries.size()));
+  }
+  if (c.drag) {
+    // The drag patches as the controller makes them (FloatingBodySettings' defaults: cosine 0.9,
+    // radius 0.2 of the largest extent, from the 256^2 bake).
+    BodyGeometrySettings geometrySettings;
+    geometrySettings.bake.width = geometrySettings.bake.height = 256;
+    Expected<BodyGeometry> geometry = prepareBodyGeometry(*mesh, geometrySettings);
+    if (geometry) {
+      const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
+      const std::vector<DragPatch> patches =
+          mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, 0.9, 0.2 * referenceLength);
+      const DragPatchSet prepared = prepareDragPatches(patches);
+      DragBody dragBody;
+      dragBody.patches = patches;
+      dragBody.prepared = &prepared;
+      for (const DragPatch& patch : patches) dragBody.totalPatchArea += patch.area;
+      dragBody.referenceLength = referenceLength;
+      dragBody.rotationalDamping = 0.3;
+      const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
+      const int dragRepeats = std::max(1, int(20000 / (patches.size() * motions.size())));
+      pass.dragUs = 1e3 * bench::medianMs(5, [&] {
+                      for (int k = 0; k < dragRepeats; ++k)
+                        for (const RigidBodyMotion& motion : motions)
+                          sink += rigidBodyDrag(dragBody, motion, liquid, scene.dt).force.y();
+                    }) / (dragRepeats * double(motions.size()));
+      // The same law on patches made from the mesh's triangles (meshDragPatches, same settings).
+      const std::vector<DragPatch> meshPatches = meshDragPatches(*mesh, 0.9, 0.2 * referenceLength);
+      const DragPatchSet meshPrepared = prepareDragPatches(meshPatches);
+      DragBody meshBody = dragBody;
+      meshBody.patches = meshPatches;
+      meshBody.prepared = &meshPrepared;
+      meshBody.totalPatchArea = 0.0;
+      for (const DragPatch& patch : meshPatches) meshBody.totalPatchArea += patch.area;
+      pass.meshDragUs = 1e3 * bench::medianMs(5, [&] {
+                          for (int k = 0; k < dragRepeats; ++k)
+                            for (const RigidBodyMotion& motion : motions)
+                              sink += rigidBodyDrag(meshBody, motion, liquid, scene.dt).force.y();
+                        }) / (dragRepeats * double(motions.size()));
+      pass.texelPatches = patches.size();
+      pass.meshPatches = meshPatches.size();
+    }
+  }
+  if (sink == 12345.678) std::printf(" ");  // keeps the sums alive
+  return pass;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int runs = std::stoi(option(argc, argv, "--runs", "5"));
+  const int steps = std::stoi(option(argc, argv, "--steps", "60"));
+  const std::string csvPath = option(argc, argv, "--csv", "bench_peers.csv");
+  const std::vector<std::string> bodies = split(option(argc, argv, "--bodies", "box,hull,sphere,mesh"));
+  const std::vector<std::string> methods = split(option(argc, argv, "--methods", "exact,texture,auto"));
+  const std::vector<std::string> surfaces = split(option(argc, argv, "--surfaces", "flat,waves"));
+
+  std::map<std::string, Scene> scenes;
+  for (const std::string& surface : surfaces) {
+    Expected<Scene> scene = loadScene(std::string(HYDROTEX_SCENES_DIR) + "/peers_" + surface + ".json");
+    if (!scene) {
+      std::fprintf(stderr, "bench_peers: %s\n", scene.error().message.c_str());
+      return 1;
+    }
+    scenes.emplace(surface, std::move(scene).value());
+  }
+  std::ofstream csv(csvPath);
+  csv << "body,triangles,method,resolved,surface,effects,runs,bodies,controller_us_per_body_step,peer,peer_us,goal_us,"
+         "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,texel_patches,mesh_patch_drag_us,"
+         "mesh_patches,queries_per_step,mean_abs_vy\n";
+  std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
+              "of %d steps\n",
+              kBodies, runs, steps);
+  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %8s %7s\n", "body", "tris", "method",
+              "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed", "drag us",
+              "mdrag us", "query/st", "|vy|m/s");
+  std::map<std::string, double> flatFigure;
+  for (const std::string& surface : surfaces) {
+    const Scene& scene = scenes.at(surface);
+    for (const std::string& bodyName : bodies) {
+      const auto prototype = std::find_if(scene.bodies.begin(), scene.bodies.end(),
+                                          [&](const SceneBody& b) { return b.name == bodyName; });
+      if (prototype == scene.bodies.end()) {
+        std::fprintf(stderr, "bench_peers: no body '%s' in peers_%s.json\n", bodyName.c_str(), surface.c_str());
+        return 1;
+      }
+      Expected<std::shared_ptr<const Mesh>> mesh = templateMesh(*prototype);
+      if (!mesh) {
+        std::fprintf(stderr, "bench_peers: %s\n", mesh.error().message.c_str());
+        return 1;
+      }
+      const PeerFigure* peer = nullptr;
+      for (const PeerFigure& figure : kPeers)
+        if (bodyName == figure.body) peer = &figure;
+      for (const std::string& method : methods) {
+        for (const bool drag : {false, true}) {
+          const Case c{bodyName, method, surface, drag};
+          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, queries, speeds;
+          Pass last;
+          for (int r = 0; r < runs; ++r) {
+            last = runPass(scene, *prototype, *mesh, c, steps);
+            ours.push_back(last.controllerUs);
+            hydro.push_back(last.hydrostaticsUs);
+            preparedUs.push_back(last.preparedUs);
+            closedUs.push_back(last.closedFormUs);
+            dragUs.push_back(last.dragUs);
+            meshDragUs.push_back(last.meshDragUs);
+            queries.push_back(last.queriesPerStep);
+            speeds.push_back(last.meanVerticalSpeed);
+          }
+          const double figure = median(ours);
+          const std::string key = bodyName + "|" + method + "|" + (drag ? "d" : "b");
+          if (surface == "flat") flatFigure[key] = figure;
+          // Flat water: the peer's figure is the goal. Waves: at most 2x the same row's flat figure.
+          const double peerUs = peer ? (drag ? peer->dragUs : peer->buoyancyUs) : 0.0;
+          double goal = peerUs;
+          std::string peerText = peer ? std::string(peer->source) + " " + std::to_string(peerUs).substr(0, 5) : "-";
+          if (surface != "flat") {
+            const auto flat = flatFigure.find(key);
+            goal = flat != flatFigure.end() ? 2.0 * flat->second : 0.0;
+            peerText = "2x flat";
+          }
+          const double ratio = goal > 0.0 ? figure / goal : 0.0;
+          const char* effects = drag ? "buoyancy+drag" : "buoyancy";
+          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %8.1f %7.3f\n",
+                      bodyName.c_str(), last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects,
+                      figure, peerText.c_str(), goal, ratio, median(hydro), median(preparedUs), median(closedUs),
+                      median(dragUs), median(meshDragUs), median(queries), median(speeds));
+          std::fflush(stdout);
+          csv << bodyName << ',' << last.triangles << ',' << method << ',' << last.resolved << ',' << surface << ','
+              << effects << ',' << runs << ',' << kBodies << ',' << figure << ',' << peerText << ',' << peerUs << ','
+              << goal << ',' << ratio << ',' << median(hydro) << ',' << median(preparedUs) << ',' << median(closedUs) << ','
+              << median(dragUs) << ',' << last.texelPatches << ',' << median(meshDragUs) << ',' << last.meshPatches << ','
+              << median(queries) << ',' << median(speeds) << '\n';
+        }
+      }
+    }
+  }
+  return 0;
+}
