@@ -194,8 +194,11 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   const HydrostaticsMethod method = floating->report.method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);  // Auto resolved
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
+  const bool exactPath = method == HydrostaticsMethod::Polyhedral &&
+                         (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool shareable = settings.mesh != nullptr && !wantsMassModel && !settings.effects.has(Effect::Wetting);
-  const ModelKey key{settings.mesh.get(), settings.resolution, texturePath, settings.effects.has(Effect::Drag),
+  const int path = texturePath ? 1 : exactPath ? 2 : 0;
+  const ModelKey key{settings.mesh.get(), settings.resolution, path, settings.effects.has(Effect::Drag),
                      settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction};
   std::shared_ptr<const SharedBodyModel> shared;
   if (shareable) {
@@ -245,6 +248,14 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   const bool needsBake =
       method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
+  // The exact path's mesh prepared once (per-triangle constants), unless it moves every step.
+  if (shared) {
+    floating->exactPrepared = shared->exactPrepared;
+  } else if (exactPath && !deforming) {
+    Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(floating->mesh);
+    if (!prepared) return prepared.error();
+    floating->exactPrepared = std::make_shared<const PreparedPolyhedron>(std::move(prepared).value());
+  }
   if (shared) {
     floating->model = shared;
     floating->dragPatches = shared->dragPatches;
@@ -407,6 +418,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     if (registered.dragPatches) bytes += registered.dragPatches->capacity() * sizeof(DragPatch);
     if (registered.dragPatchSet) bytes += registered.dragPatchSet->memoryBytes();
     if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
+    if (registered.exactPrepared) bytes += registered.exactPrepared->memoryBytes();
   }
   registered.report.effectMemoryBytes = bytes;
   registered.report.sharesModel = shared != nullptr;
@@ -419,6 +431,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     model->dragPatches = registered.dragPatches;
     model->dragPatchSet = registered.dragPatchSet;
     model->totalDragPatchArea = registered.totalDragPatchArea;
+    model->exactPrepared = registered.exactPrepared;
     registered.model = model;
     models_[key] = model;
   }
@@ -654,6 +667,7 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) c
   task.dynamic = body->getInvMass() > btScalar(0);
   task.wantsHydrostatics = effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass);
   task.backendBody = floating.backendBody;
+  task.exactPrepared = floating.exactPrepared.get();
   task.exactMesh = floating.mesh.get();
   task.centerOfMass = massProperties.centerOfMass;
   task.boundsCenter = floating.boundsCenter;

@@ -14,6 +14,7 @@
 #include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/bake/SurfaceEvaluator.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
@@ -62,6 +63,7 @@ struct SharedBodyModel {
   std::shared_ptr<const std::vector<DragPatch>> dragPatches; ///< when drag is listed
   std::shared_ptr<const DragPatchSet> dragPatchSet;          ///< prepareDragPatches(*dragPatches)
   double totalDragPatchArea = 0.0;                           ///< m^2
+  std::shared_ptr<const PreparedPolyhedron> exactPrepared;   ///< the exact path's prepared mesh, when it runs
 };
 
 /// One registered body.
@@ -74,6 +76,9 @@ struct FloatingBody {
   std::shared_ptr<const std::vector<DragPatch>> dragPatches;  ///< only when Effect::Drag is listed (shared by a model)
   std::shared_ptr<const DragPatchSet> dragPatchSet;           ///< prepareDragPatches(*dragPatches), for the drag sum
   std::shared_ptr<const SharedBodyModel> model; ///< what it shares with bodies of its mesh and settings, or null
+  /// The exact path's mesh prepared once (HydrostaticsMethod::Polyhedral with buoyancy or added
+  /// mass, a mesh that does not deform; shared by a model), else null: the mesh itself is clipped.
+  std::shared_ptr<const PreparedPolyhedron> exactPrepared;
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
   std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset

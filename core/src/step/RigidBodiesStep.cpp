@@ -163,9 +163,13 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
         result.hydrostatics = answers_[q];
         haveHydrostatics = true;
       }
-    } else if (task.exactMesh != nullptr) {
+    } else if (task.exactPrepared != nullptr || task.exactMesh != nullptr) {
       ++counters.hydrostaticsQueries;
-      if (Expected<HydrostaticsResult> exact = polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, queryOf(task))) {
+      const HydrostaticsQuery query = queryOf(task);
+      // The prepared mesh gives the same bits as the mesh itself (PreparedPolyhedron.hpp), faster.
+      if (Expected<HydrostaticsResult> exact = task.exactPrepared != nullptr
+                                                   ? polyhedralHydrostatics(*task.exactPrepared, batch.surface, query)
+                                                   : polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, query)) {
         result.hydrostatics = *exact;
         haveHydrostatics = true;
       }

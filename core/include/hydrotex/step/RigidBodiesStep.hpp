@@ -18,6 +18,7 @@
 #include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -36,8 +37,11 @@ struct RigidBodyTask {
   bool wantsHydrostatics = true;
   /// The texture path: the body's id in the backend, asked in the step's one batch.
   std::optional<BackendBodyId> backendBody;
-  /// The exact polyhedral path (when backendBody is empty): the closed mesh, mesh frame (m).
-  const Mesh* exactMesh = nullptr;
+  /// The exact polyhedral path (when backendBody is empty): the closed mesh prepared once
+  /// (PreparedPolyhedron), or, for a mesh that moves from step to step (a deforming body), the
+  /// mesh itself (exactMesh, when exactPrepared is null); mesh frame (m).
+  const PreparedPolyhedron* exactPrepared = nullptr;
+  const Mesh* exactMesh = nullptr;  ///< see exactPrepared
   Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< m, mesh frame (the query's)
   Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();  ///< m, mesh frame: centre of a sphere holding the mesh
   double boundsRadius = 0.0;                               ///< m, its radius

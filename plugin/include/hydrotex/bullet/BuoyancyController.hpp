@@ -258,9 +258,9 @@ class BuoyancyController : public btActionInterface {
   RigidBodiesStep stepper_;                    ///< core's phased step of the rigid bodies
   std::vector<RigidBodyTask> tasks_;           ///< this step's question per body (readBody), registration order
   std::vector<RigidBodyTaskResult> results_;   ///< ... and the answers (writeBody)
-  /// What identifies a shareable model: the mesh (by identity), resolution, the texture path,
-  /// drag and its patch settings.
-  using ModelKey = std::tuple<const Mesh*, int, bool, bool, double, double>;
+  /// What identifies a shareable model: the mesh (by identity), resolution, the hydrostatics path
+  /// it holds (0 none, 1 texture, 2 exact), drag and its patch settings.
+  using ModelKey = std::tuple<const Mesh*, int, int, bool, double, double>;
   std::map<ModelKey, std::weak_ptr<SharedBodyModel>> models_;  ///< models in use (addBody)
   double time_ = 0.0;
 };
