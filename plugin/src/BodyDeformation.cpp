@@ -171,12 +171,8 @@ void BuoyancyController::deform(FloatingBody& floating) {
   // The mass model sums over the moved triangles (followTriangles at registration): O(triangles).
   if (floating.massModel && !floating.massModel->setGeometry(*state.current)) ++statistics_.failedQueries;
   if (settings.effects.has(Effect::Drag)) {
-    floating.dragPatches = std::make_shared<const std::vector<DragPatch>>(
-        mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
-                                   settings.dragPatchRadiusFraction * floating.referenceLength));
-    floating.totalDragPatchArea = 0.0;
-    for (const DragPatch& patch : *floating.dragPatches) floating.totalDragPatchArea += patch.area;
-    floating.dragPatchSet = std::make_shared<const DragPatchSet>(prepareDragPatches(*floating.dragPatches));
+    setDragPatches(floating, mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
+                                                        settings.dragPatchRadiusFraction * floating.referenceLength));
   }
   Eigen::Vector3d lower = positions.front(), upper = lower;
   for (const Eigen::Vector3d& p : positions) {

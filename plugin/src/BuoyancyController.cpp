@@ -275,10 +275,8 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->backendTexels = geometry->textures.size();
     }
     if (settings.effects.has(Effect::Drag)) {
-      floating->dragPatches = std::make_shared<const std::vector<DragPatch>>(mergeTexelsIntoDragPatches(
-          geometry->bake, geometry->textures, settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction * referenceLength));
-      for (const DragPatch& patch : *floating->dragPatches) floating->totalDragPatchArea += patch.area;
-      floating->dragPatchSet = std::make_shared<const DragPatchSet>(prepareDragPatches(*floating->dragPatches));
+      setDragPatches(*floating, mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine,
+                                                           settings.dragPatchRadiusFraction * referenceLength));
     }
     if (wantsMassModel) {
       // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.

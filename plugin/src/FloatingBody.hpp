@@ -103,4 +103,15 @@ struct FloatingBody {
   int originalFlags = 0;                        ///< btRigidBody flags before registration
 };
 
+/// Gives `floating` its drag model from `patches` (mesh frame): the patches, their prepared layout
+/// for the drag sum (prepareDragPatches) and their total area, the derived state made in one place
+/// (registration and each deformation's re-merge).
+inline void setDragPatches(FloatingBody& floating, std::vector<DragPatch> patches) {
+  double area = 0.0;
+  for (const DragPatch& patch : patches) area += patch.area;
+  floating.totalDragPatchArea = area;
+  floating.dragPatchSet = std::make_shared<const DragPatchSet>(prepareDragPatches(patches));
+  floating.dragPatches = std::make_shared<const std::vector<DragPatch>>(std::move(patches));
+}
+
 }  // namespace hydrotex::bullet
