@@ -80,7 +80,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   // Every counter is a std::uint64_t: a new one that is not added here fails this check.
-  static_assert(sizeof(ControllerStatistics) == 15 * sizeof(std::uint64_t), "add the new counter below");
+  static_assert(sizeof(ControllerStatistics) == 16 * sizeof(std::uint64_t), "add the new counter below");
   into.steps += from.steps;
   into.hydrostaticsQueries += from.hydrostaticsQueries;
   into.dragPasses += from.dragPasses;
@@ -96,6 +96,7 @@ void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   into.permeableTexelsVisited += from.permeableTexelsVisited;
   into.wettingSteps += from.wettingSteps;
   into.backendBatches += from.backendBatches;
+  into.autoMethodChoices += from.autoMethodChoices;
 }
 
 }  // namespace
@@ -143,6 +144,7 @@ int BuoyancyController::threads() const { return threads_->threads(); }
 Status BuoyancyController::setLiquid(LiquidSettings liquid) {
   if (Status s = liquid.validate(); !s) return s;
   liquid_ = std::move(liquid);
+  autoChoices_.clear();  // made against the old surface (whose address a new one may take)
   // A body asleep in the old liquid is skipped as unchanged: wake it to meet the new one.
   for (const auto& floating : bodies_) floating->body->activate(true);
   return Ok{};
@@ -191,7 +193,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                               settings.effects.has(Effect::VariableMass) || deforming || flooding;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
-  const HydrostaticsMethod method = floating->report.method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);  // Auto resolved
+  const HydrostaticsMethod method = floating->report.method = resolveMethod(settings, mesh);  // Auto resolved
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool exactPath = method == HydrostaticsMethod::Polyhedral &&
@@ -434,6 +436,23 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     models_[key] = model;
   }
   return Ok{};
+}
+
+HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh) {
+  if (settings.method != HydrostaticsMethod::Auto) return settings.method;
+  ++statistics_.autoMethodChoices;
+  if (settings.mesh == nullptr) return resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
+  // The choice depends only on the key's parts: a crate of a kind is measured once.
+  const AutoKey key{settings.mesh.get(), settings.resolution, settings.autoMethodError,
+                    settings.effects.has(Effect::Deformation), liquid_.surface.get()};
+  auto found = autoChoices_.find(key);
+  if (found != autoChoices_.end() && found->second.mesh.lock() == settings.mesh) {
+    --statistics_.autoMethodChoices;  // not resolved again: taken from the first body of the mesh
+    return found->second.method;
+  }
+  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
+  autoChoices_[key] = AutoChoice{settings.mesh, method};
+  return method;
 }
 
 Expected<std::size_t> BuoyancyController::addAllBodies(const FloatingBodySettings& defaults) {

@@ -105,3 +105,26 @@ TEST_CASE("method auto: its target is checked, and scenes take \"auto\"", "[floa
   CHECK(bad.error().message.find("auto") != std::string::npos);
   CHECK_FALSE(parse(R"("method": "auto", "auto_method_error": 0)").ok());
 }
+
+TEST_CASE("method auto: bodies given one mesh are measured once", "[floating][method][auto]") {
+  TestWorld world;
+  // A 32k-triangle sphere at 64^2: the cost model finds the texture path cheaper, so the advisor
+  // measures its error (a bake and 20 poses); the second and third body take the first's choice.
+  auto sphere = std::make_shared<const Mesh>(primitives::uvSphere(0.5, 256, 64));
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
+  settings.autoMethodError = 1e-2;
+  settings.mesh = sphere;
+  std::vector<btRigidBody*> bodies;
+  for (int i = 0; i < 3; ++i) {
+    bodies.push_back(world.add(*sphere, settings, btVector3(btScalar(3 * i), 0, 0)));
+    REQUIRE(bodies.back() != nullptr);
+    CHECK(world.controller().report(bodies.back())->method == bullet::HydrostaticsMethod::Texture);
+  }
+  CHECK(world.controller().statistics().autoMethodChoices == 1);
+  // Another target is another choice.
+  settings.autoMethodError = 1e-9;
+  btRigidBody* strict = world.add(*sphere, settings, btVector3(12, 0, 0));
+  REQUIRE(strict != nullptr);
+  CHECK(world.controller().report(strict)->method == bullet::HydrostaticsMethod::Polyhedral);
+  CHECK(world.controller().statistics().autoMethodChoices == 2);
+}

@@ -87,6 +87,7 @@ struct ControllerStatistics {
   std::uint64_t permeableTexelsVisited = 0; ///< permeable texels those steps evaluated
   std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
   std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
+  std::uint64_t autoMethodChoices = 0;    ///< HydrostaticsMethod::Auto resolved at addBody (bodies given one Mesh share one)
 };
 
 /// Where the controller's time went since construction or resetStatistics(), by phase of its step
@@ -234,6 +235,7 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
+  HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh);
   void changeBody(FloatingBody& floating, double dt);
   void readBody(FloatingBody& floating, RigidBodyTask& task) const;
   void wetBodies(double dt);
@@ -262,6 +264,14 @@ class BuoyancyController : public btActionInterface {
   /// it holds (0 none, 1 texture, 2 exact), drag and its patch settings.
   using ModelKey = std::tuple<const Mesh*, int, int, bool, double, double>;
   std::map<ModelKey, std::weak_ptr<SharedBodyModel>> models_;  ///< models in use (addBody)
+  /// HydrostaticsMethod::Auto's choice for a mesh (by identity, kept alive-checked), resolution,
+  /// target, deformation and liquid surface: bodies of one mesh are measured once.
+  using AutoKey = std::tuple<const Mesh*, int, double, bool, const LiquidSurface*>;
+  struct AutoChoice {
+    std::weak_ptr<const Mesh> mesh;  ///< expired: the address may now be another mesh's
+    HydrostaticsMethod method = HydrostaticsMethod::Texture;
+  };
+  std::map<AutoKey, AutoChoice> autoChoices_;
   double time_ = 0.0;
 };
 
