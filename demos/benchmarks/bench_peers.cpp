@@ -11,9 +11,10 @@
 // vertical speed to show it.
 //
 // Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
-// states, timed alone: "exact us" polyhedralHydrostaticsUnchecked (what the controller calls),
-// "prep us" polyhedralHydrostatics on a PreparedPolyhedron and "closed" sphereHydrostatics (what
-// it could call: a sphere's closed form in flat water), "drag us" rigidBodyDrag with the drag
+// states, timed alone: "exact us" polyhedralHydrostaticsUnchecked on the mesh, "prep us"
+// polyhedralHydrostatics on a PreparedPolyhedron (what the controller calls, the same bits) and
+// "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat water), "drag us"
+// rigidBodyDrag with the drag
 // patches the controller makes (from the 256^2 bake), "mdrag us" the same on meshDragPatches
 // (what it could make for an exact-path body, no bake); the rest of "ours" is the controller's own (Bullet reads and
 // writes, the implicit update).
