@@ -20,6 +20,7 @@
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mass/PrimitiveMassProperties.hpp"
 #include "hydrotex/step/RigidBodiesStep.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -171,6 +172,17 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   auto floating = std::make_unique<FloatingBody>();
   floating->body = body;
   floating->settings = settings;
+  // A true sphere (a btSphereShape with no mesh given): its closed forms (core's
+  // PrimitiveHydrostatics and PrimitiveMassProperties) instead of the exact path on its tessellation,
+  // which is up to 1e-3 lighter and slower, unless the texture path is asked for or something needs
+  // the texels (a mass model, deformation).
+  std::optional<double> sphereRadius;
+  if (!settings.mesh && settings.meshPath.empty() && body->getCollisionShape()->getShapeType() == SPHERE_SHAPE_PROXYTYPE &&
+      settings.method != HydrostaticsMethod::Texture && settings.shellDensity == 0.0 && !settings.densityMap &&
+      settings.pointMasses.empty() && !settings.effects.has(Effect::VariableMass) &&
+      !settings.effects.has(Effect::Deformation) && !settings.effects.has(Effect::Flooding)) {
+    sphereRadius = double(static_cast<const btSphereShape*>(body->getCollisionShape())->getRadius());
+  }
   if (settings.mesh) {
     floating->mesh = settings.mesh;
   } else if (settings.meshPath.empty()) {
@@ -193,7 +205,8 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                               settings.effects.has(Effect::VariableMass) || deforming || flooding;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
-  const HydrostaticsMethod method = floating->report.method = resolveMethod(settings, mesh);  // Auto resolved
+  const HydrostaticsMethod method = floating->report.method =
+      sphereRadius ? HydrostaticsMethod::Polyhedral : resolveMethod(settings, mesh);  // Auto resolved
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool exactPath = method == HydrostaticsMethod::Polyhedral &&
@@ -222,7 +235,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   }
 
   // Uniform solids: the exact polyhedral mass properties (once per mesh, at registration).
-  Expected<MassProperties> unitDensity = shared ? Expected<MassProperties>(shared->unitDensity) : polyhedralMassProperties(mesh, 1.0);
+  Expected<MassProperties> unitDensity = shared         ? Expected<MassProperties>(shared->unitDensity)
+                                         : sphereRadius ? solidSphereMassProperties(*sphereRadius, 1.0)
+                                                        : polyhedralMassProperties(mesh, 1.0);
+  floating->sphereRadius = sphereRadius;
   if (!unitDensity) return unitDensity.error();
   if (!(unitDensity->volume > 0.0)) return Error{"mesh: encloses no volume"};
   double density = 0.0;
@@ -685,6 +701,7 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) c
   task.wantsHydrostatics = effects.has(Effect::Buoyancy) || effects.has(Effect::AddedMass);
   task.backendBody = floating.backendBody;
   task.exactPrepared = floating.exactPrepared.get();
+  task.sphereRadius = floating.sphereRadius;
   task.exactMesh = floating.mesh.get();
   task.centerOfMass = massProperties.centerOfMass;
   task.boundsCenter = floating.boundsCenter;

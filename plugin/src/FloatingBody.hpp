@@ -79,6 +79,9 @@ struct FloatingBody {
   /// The exact path's mesh prepared once (HydrostaticsMethod::Polyhedral with buoyancy or added
   /// mass, a mesh that does not deform; shared by a model), else null: the mesh itself is clipped.
   std::shared_ptr<const PreparedPolyhedron> exactPrepared;
+  /// A true sphere of this radius (m) about the mesh frame's origin (a btSphereShape given no
+  /// mesh): its mass properties and flat-water hydrostatics in closed form.
+  std::optional<double> sphereRadius;
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
   std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
 
 namespace hydrotex {
 namespace {
@@ -163,13 +164,17 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
         result.hydrostatics = answers_[q];
         haveHydrostatics = true;
       }
-    } else if (task.exactPrepared != nullptr || task.exactMesh != nullptr) {
+    } else if (task.sphereRadius || task.exactPrepared != nullptr || task.exactMesh != nullptr) {
       ++counters.hydrostaticsQueries;
       const HydrostaticsQuery query = queryOf(task);
-      // The prepared mesh gives the same bits as the mesh itself (PreparedPolyhedron.hpp), faster.
-      if (Expected<HydrostaticsResult> exact = task.exactPrepared != nullptr
-                                                   ? polyhedralHydrostatics(*task.exactPrepared, batch.surface, query)
-                                                   : polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, query)) {
+      // A sphere in flat water in closed form; the prepared mesh gives the same bits as the mesh
+      // itself (PreparedPolyhedron.hpp), faster.
+      const bool closedForm = task.sphereRadius && batch.surface.flatHeight().has_value();
+      if (Expected<HydrostaticsResult> exact =
+              closedForm                       ? sphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), batch.surface, query)
+              : task.exactPrepared != nullptr ? polyhedralHydrostatics(*task.exactPrepared, batch.surface, query)
+              : task.exactMesh != nullptr     ? polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, query)
+                                              : Expected<HydrostaticsResult>(Error{"no mesh for the exact path"})) {
         result.hydrostatics = *exact;
         haveHydrostatics = true;
       }

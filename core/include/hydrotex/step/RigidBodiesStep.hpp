@@ -42,6 +42,9 @@ struct RigidBodyTask {
   /// mesh itself (exactMesh, when exactPrepared is null); mesh frame (m).
   const PreparedPolyhedron* exactPrepared = nullptr;
   const Mesh* exactMesh = nullptr;  ///< see exactPrepared
+  /// The body is a true sphere of this radius (m) about the mesh frame's origin: in flat water its
+  /// hydrostatics in closed form (sphereHydrostatics), elsewhere the exact path on its mesh.
+  std::optional<double> sphereRadius;
   Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< m, mesh frame (the query's)
   Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();  ///< m, mesh frame: centre of a sphere holding the mesh
   double boundsRadius = 0.0;                               ///< m, its radius

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: Zlib
+// A true sphere (a btSphereShape given no mesh) floats by its closed forms (issue 19 item 4): its
+// mass is the sphere's, not its tessellation's, and it settles at the draft where the spherical
+// cap displaces its weight; under waves it takes the exact path on its mesh.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include "PluginTestWorld.hpp"
+
+using namespace hydrotex;
+using namespace hydrotex::bullet;
+using hydrotex::bullet::testing::TestWorld;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The height h of a spherical cap of radius r holding volume v: pi h^2 (3 r - h) / 3 = v (bisection).
+double capHeight(double r, double v) {
+  double low = 0.0, high = 2.0 * r;
+  for (int i = 0; i < 200; ++i) {
+    const double h = 0.5 * (low + high);
+    (kPi * h * h * (3.0 * r - h) / 3.0 < v ? low : high) = h;
+  }
+  return 0.5 * (low + high);
+}
+
+}  // namespace
+
+TEST_CASE("a sphere shape floats at its closed-form draft with its closed-form mass", "[floating][sphere]") {
+  for (HydrostaticsMethod method : {HydrostaticsMethod::Polyhedral, HydrostaticsMethod::Auto}) {
+    INFO("method " << int(method));
+    TestWorld world;
+    const double radius = 0.5, density = 300.0;
+    btSphereShape shape{btScalar(radius)};
+    btRigidBody::btRigidBodyConstructionInfo info(1, nullptr, &shape, btVector3(1, 1, 1));
+    btRigidBody body(info);
+    body.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0.1f, 0)));
+    FloatingBodySettings settings;
+    settings.method = method;
+    settings.density = density;
+    settings.effects = {Effect::Buoyancy, Effect::Drag};
+    REQUIRE(world.controller().addBody(&body, settings).ok());
+    world.world().addRigidBody(&body);
+    const FloatingBodyReport* report = world.controller().report(&body);
+    REQUIRE(report != nullptr);
+    CHECK(report->method == HydrostaticsMethod::Polyhedral);
+    // m = rho 4/3 pi r^3 exactly (double rounding), where the tessellated sphere is up to 1e-3 lighter.
+    const double mass = density * 4.0 / 3.0 * kPi * radius * radius * radius;
+    CHECK(report->massProperties.mass == Approx(mass).epsilon(1e-12));
+    CHECK(report->massProperties.inertia(0, 0) == Approx(0.4 * mass * radius * radius).epsilon(1e-12));
+    for (int i = 0; i < 600; ++i) world.step(1.0 / 60.0);  // 10 s: drag settles it
+    // At rest the cap displaces the weight: V = m / rho_w, the centre r - h above the water.
+    const double h = capHeight(radius, mass / 1000.0);
+    // Bullet's float positions (1e-7 m) and the rest rule's residual force (1e-3 of the weight,
+    // over the water plane's stiffness rho g pi a^2: about 0.1 mm) bound the draft's error.
+    CHECK(double(body.getCenterOfMassPosition().y()) == Approx(radius - h).margin(2e-4));
+    CHECK(report->hydrostatics.submergedVolume == Approx(mass / 1000.0).epsilon(2e-3));
+    world.world().removeRigidBody(&body);
+    world.controller().removeBody(&body);
+  }
+}
+
+TEST_CASE("a sphere shape asked for the texture path keeps it", "[floating][sphere]") {
+  TestWorld world;
+  btSphereShape shape(0.5f);
+  btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
+  FloatingBodySettings settings;
+  settings.method = HydrostaticsMethod::Texture;
+  settings.resolution = 64;
+  settings.density = 300.0;
+  settings.effects = {Effect::Buoyancy};
+  REQUIRE(world.controller().addBody(&body, settings).ok());
+  CHECK(world.controller().report(&body)->method == HydrostaticsMethod::Texture);
+  // The tessellated sphere's mass: below the true sphere's (its vertices lie on it).
+  CHECK(world.controller().report(&body)->massProperties.mass < 300.0 * 4.0 / 3.0 * kPi * 0.125);
+  world.controller().removeBody(&body);
+}
