@@ -167,8 +167,13 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
   for (int i = 0; i < kBodies; ++i) {
     SceneBody body = prototype;
     body.name = prototype.name + std::to_string(i);
-    body.mesh = mesh;
-    body.shape.reset();
+    // A sphere stays a btSphereShape (the controller then takes its closed forms, unless on the
+    // texture path); other primitives and meshes share one mesh, as crates of a kind.
+    const bool sphere = prototype.shape && prototype.shape->type == SceneShape::Type::Sphere;
+    if (!sphere) {
+      body.mesh = mesh;
+      body.shape.reset();
+    }
     body.method = c.method == "exact"     ? HydrostaticsMethod::Polyhedral
                   : c.method == "texture" ? HydrostaticsMethod::Texture
                                           : HydrostaticsMethod::Auto;
