@@ -117,7 +117,15 @@ TEST_CASE("Gerstner orbital velocities decay as exp(k depth) and vanish above th
       CHECK(below.normalized().isApprox(atSurface.normalized(), 1e-12));
     }
     CHECK(sea.velocity(Eigen::Vector3d(x, surface + 0.01, 0.0), t).isZero(0.0));
+    // Given the surface's height (as the drag's patches hold it), the same bits without a second search.
+    for (double depth : {-0.01, 0.0, 0.5, 6.0}) {
+      const Eigen::Vector3d p(x, surface - depth, 0.7);
+      CHECK(sea.velocityBelow(p, sea.surfaceHeight(p.x(), p.z(), t), t) == sea.velocity(p, t));
+    }
   }
+  // The default (no velocity field) ignores the height it is given.
+  const FlatSurface still(0.0);
+  CHECK(still.velocityBelow(Eigen::Vector3d(0.0, -1.0, 0.0), 0.0, 0.0).isZero(0.0));
 }
 
 TEST_CASE("Height grid interpolates bilinearly and clamps outside", "[liquid][grid]") {

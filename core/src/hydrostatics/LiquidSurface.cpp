@@ -23,6 +23,11 @@ Eigen::Vector3d LiquidSurface::velocity(const Eigen::Vector3d& /*worldPoint*/, d
   return Eigen::Vector3d::Zero();
 }
 
+Eigen::Vector3d LiquidSurface::velocityBelow(const Eigen::Vector3d& worldPoint, double /*surfaceHeight*/,
+                                             double time) const {
+  return velocity(worldPoint, time);
+}
+
 double LiquidSurface::pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const {
   // Hydrostatic pressure under the local free surface: p = rho g (h - y), 0 above it.
   const double depth = surfaceHeight(worldPoint.x(), worldPoint.z(), time) - worldPoint.y();
@@ -220,7 +225,10 @@ std::pair<double, double> GerstnerWaves::heightRange(double /*time*/) const {
 }
 
 Eigen::Vector3d GerstnerWaves::velocity(const Eigen::Vector3d& worldPoint, double time) const {
-  const double surface = surfaceHeight(worldPoint.x(), worldPoint.z(), time);
+  return velocityBelow(worldPoint, surfaceHeight(worldPoint.x(), worldPoint.z(), time), time);
+}
+
+Eigen::Vector3d GerstnerWaves::velocityBelow(const Eigen::Vector3d& worldPoint, double surface, double time) const {
   if (worldPoint.y() > surface) return Eigen::Vector3d::Zero();
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   for (const Component& c : components_) {

@@ -279,15 +279,18 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
     for (; i < cluster.end; ++i) {
       const Eigen::Vector3d p = rotation * Eigen::Vector3d(double(set.x[i]), double(set.y[i]), double(set.z[i])) + translation;
       double wetFraction = 1.0;
+      std::optional<double> level;  // the surface above the patch, when found: its velocity needs it too
       if (freeSurface && !whollyWet) {
-        const double level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), liquid.time);
-        wetFraction = wetFractionOf(level - p.y(), double(set.radius[i]));
+        level = flatLevel ? *flatLevel : surface.surfaceHeight(p.x(), p.z(), liquid.time);
+        wetFraction = wetFractionOf(*level - p.y(), double(set.radius[i]));
         if (wetFraction <= 0.0) continue;
       }
       ++visited;
       const Eigen::Vector3d r = p - center;
       const Eigen::Vector3d liquidVelocity =
-          still ? liquid.current : Eigen::Vector3d(surface.velocity(p, liquid.time) + liquid.current);
+          still   ? liquid.current
+          : level ? Eigen::Vector3d(surface.velocityBelow(p, *level, liquid.time) + liquid.current)
+                  : Eigen::Vector3d(surface.velocity(p, liquid.time) + liquid.current);
       const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocity;
       const Eigen::Vector3d areaVector = rotation * Eigen::Vector3d(double(set.ax[i]), double(set.ay[i]), double(set.az[i]));
       const Eigen::Vector3d patchForce =

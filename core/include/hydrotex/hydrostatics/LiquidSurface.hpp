@@ -48,6 +48,10 @@ class LiquidSurface {
 
   /// Velocity of the liquid (m/s, world) at a world point and time. Default: at rest.
   virtual Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const;
+  /// velocity(worldPoint, time) for a caller that already holds surfaceHeight(x, z, time) above
+  /// the point (m): a surface whose velocity needs that height (waves) skips finding it again.
+  /// The same bits as velocity(). Default: velocity(), the height unused.
+  virtual Eigen::Vector3d velocityBelow(const Eigen::Vector3d& worldPoint, double surfaceHeight, double time) const;
 
   /// Gauge pressure (Pa) at a world point: rho g (surfaceHeight - y) below a free surface, 0 above
   /// it; for a medium without a free surface, the integral of rho(y) g from the point upwards (a
@@ -153,6 +157,8 @@ class GerstnerWaves final : public LiquidSurface {
   /// Orbital velocity of the liquid particle at the surface above the point, decaying as
   /// exp(k (y - surface)) with depth (linear wave theory); zero above the surface.
   Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
+  /// velocity() from the given surface height above the point (no second search for it).
+  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& worldPoint, double surfaceHeight, double time) const override;
   /// Nominal density (kg/m^3).
   double density() const override { return density_; }
   /// Error for a non-positive wavelength, negative amplitude, steepness outside [0, 1], NaN, or a
