@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "ControllerBench.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
@@ -40,21 +41,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-/// Wraps the controller to time its updateAction separately from the rest of the step.
-class TimedAction : public btActionInterface {
- public:
-  explicit TimedAction(btActionInterface& inner) : inner_(inner) {}
-  void updateAction(btCollisionWorld* world, btScalar dt) override {
-    const auto start = Clock::now();
-    inner_.updateAction(world, dt);
-    seconds += std::chrono::duration<double>(Clock::now() - start).count();
-  }
-  void debugDraw(btIDebugDraw* drawer) override { inner_.debugDraw(drawer); }
-  double seconds = 0.0;
-
- private:
-  btActionInterface& inner_;
-};
+using bench::TimedAction;
 
 struct Run {
   double totalMs, controllerMs;
@@ -137,8 +124,7 @@ Run runOnce(EffectSet effects, int resolution, int bodies, int steps, int thread
           phasesPerStep(phasesBefore, world.controller().timings(), steps)};
 }
 
-/// Eigen from Bullet.
-Eigen::Vector3d eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+using bench::eigen;
 
 /// The cost of buoyancy and of drag for the same bodies in the same states (issue 19 item 3: "with
 /// drag, a body costs at most 1.5x its buoyancy-only cost"): a world of `worldEffects` (buoyancy
@@ -205,30 +191,9 @@ SameStateCost sameStateCosts(int bodies, int resolution, int steps, int runs, Ef
   const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
   std::vector<HydrostaticsQuery> queries;
   std::vector<RigidBodyMotion> motions;
-  for (btRigidBody* body : world.bodies()) {
-    const FloatingBodyReport* report = controller.report(body);
-    const std::optional<btTransform> meshWorld = controller.meshTransform(body);
-    if (report == nullptr || !meshWorld) continue;
-    Pose pose;
-    const btMatrix3x3& basis = meshWorld->getBasis();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) pose.rotation(r, c) = basis[r][c];
-    pose.translation = eigen(meshWorld->getOrigin());
-    HydrostaticsQuery query;
-    query.pose = pose;
-    query.gravity = 9.81;
-    query.centerOfMass = report->massProperties.centerOfMass;
-    query.time = controller.time();
-    query.mass = report->massProperties.mass;
-    queries.push_back(query);
-    RigidBodyMotion motion;
-    motion.meshPose = pose;
-    motion.center = eigen(body->getCenterOfMassPosition());
-    motion.linearVelocity = eigen(body->getLinearVelocity());
-    motion.angularVelocity = eigen(body->getAngularVelocity());
-    motion.mass = report->massProperties.mass;
-    motion.inertiaWorld = pose.rotation * report->massProperties.inertia * pose.rotation.transpose();
-    motions.push_back(motion);
+  for (const bench::BodyState& state : bench::bodyStates(controller, world.bodies())) {
+    queries.push_back(state.query);
+    motions.push_back(state.motion);
   }
   SameStateCost cost;
   cost.patches = double(patches.size());

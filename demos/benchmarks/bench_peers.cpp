@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "BenchmarkTiming.hpp"
+#include "ControllerBench.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
@@ -70,21 +71,7 @@ constexpr PeerFigure kPeers[] = {
     {"mesh", 10.0, 10.0, "goal"},
 };
 
-/// Wraps the controller to time its updateAction alone.
-class TimedAction : public btActionInterface {
- public:
-  explicit TimedAction(btActionInterface& inner) : inner_(inner) {}
-  void updateAction(btCollisionWorld* world, btScalar dt) override {
-    const auto start = Clock::now();
-    inner_.updateAction(world, dt);
-    seconds += std::chrono::duration<double>(Clock::now() - start).count();
-  }
-  void debugDraw(btIDebugDraw* drawer) override { inner_.debugDraw(drawer); }
-  double seconds = 0.0;
-
- private:
-  btActionInterface& inner_;
-};
+using bench::TimedAction;
 
 std::vector<std::string> split(const std::string& list) {
   std::vector<std::string> out;
@@ -106,7 +93,7 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-Eigen::Vector3d eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+using bench::eigen;
 
 /// The mesh a template body floats as: its Bullet primitive meshed as the controller meshes a
 /// collision shape (meshFromCollisionShape, default tessellation), or its mesh file. Made once and
@@ -211,31 +198,10 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
   // The same states, the core calls alone (exact path): poses and velocities now.
   std::vector<HydrostaticsQuery> queries;
   std::vector<RigidBodyMotion> motions;
-  for (btRigidBody* body : world.bodies()) {
-    pass.meanVerticalSpeed += std::abs(body->getLinearVelocity().y()) / kBodies;
-    const FloatingBodyReport* report = controller.report(body);
-    const std::optional<btTransform> meshWorld = controller.meshTransform(body);
-    if (report == nullptr || !meshWorld) continue;
-    Pose pose;
-    const btMatrix3x3& basis = meshWorld->getBasis();
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) pose.rotation(r, k) = basis[r][k];
-    pose.translation = eigen(meshWorld->getOrigin());
-    HydrostaticsQuery query;
-    query.pose = pose;
-    query.gravity = 9.81;
-    query.centerOfMass = report->massProperties.centerOfMass;
-    query.time = controller.time();
-    query.mass = report->massProperties.mass;
-    queries.push_back(query);
-    RigidBodyMotion motion;
-    motion.meshPose = pose;
-    motion.center = eigen(body->getCenterOfMassPosition());
-    motion.linearVelocity = eigen(body->getLinearVelocity());
-    motion.angularVelocity = eigen(body->getAngularVelocity());
-    motion.mass = report->massProperties.mass;
-    motion.inertiaWorld = pose.rotation * report->massProperties.inertia * pose.rotation.transpose();
-    motions.push_back(motion);
+  for (const btRigidBody* body : world.bodies()) pass.meanVerticalSpeed += std::abs(body->getLinearVelocity().y()) / kBodies;
+  for (const bench::BodyState& state : bench::bodyStates(controller, world.bodies())) {
+    queries.push_back(state.query);
+    motions.push_back(state.motion);
   }
   if (pass.resolved != "exact" || queries.empty()) return pass;
   const LiquidSurface& surface = *controller.liquid().surface;

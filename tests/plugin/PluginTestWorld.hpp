@@ -111,4 +111,16 @@ inline FloatingBodySettings solid(double density, EffectSet effects,
   return settings;
 }
 
+/// Draft h (m) of a sphere of `radius` (m) floating with displaced volume `volume` (m^3): the
+/// spherical cap V(h) = pi h^2 (3 R - h) / 3, solved by bisection on [0, 2R] to double rounding.
+inline double sphereDraft(double radius, double volume) {
+  constexpr double pi = 3.14159265358979323846;
+  double low = 0.0, high = 2.0 * radius;
+  for (int i = 0; i < 100; ++i) {
+    const double h = 0.5 * (low + high);
+    (pi * h * h * (3.0 * radius - h) / 3.0 < volume ? low : high) = h;
+  }
+  return 0.5 * (low + high);
+}
+
 }  // namespace hydrotex::bullet::testing

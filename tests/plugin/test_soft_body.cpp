@@ -23,6 +23,7 @@
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "PluginTestWorld.hpp"
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/BuoyancyController.hpp"
 #include "hydrotex/bullet/Scene.hpp"
@@ -30,6 +31,7 @@
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
+using hydrotex::bullet::testing::sphereDraft;
 
 namespace {
 
@@ -104,16 +106,6 @@ btVector3 centerOfMass(const btSoftBody& body) {
   return sum / mass;
 }
 
-/// Draft h of a sphere of `radius` floating with displaced volume `volume`: the cap
-/// V(h) = pi h^2 (3 R - h) / 3 (docs/references.md, sphere cap), solved by bisection on [0, 2R].
-double sphereDraft(double radius, double volume) {
-  double low = 0.0, high = 2.0 * radius;
-  for (int i = 0; i < 100; ++i) {
-    const double h = 0.5 * (low + high);
-    (kPi * h * h * (3.0 * radius - h) / 3.0 < volume ? low : high) = h;
-  }
-  return 0.5 * (low + high);
-}
 
 }  // namespace
 

@@ -18,16 +18,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The height h of a spherical cap of radius r holding volume v: pi h^2 (3 r - h) / 3 = v (bisection).
-double capHeight(double r, double v) {
-  double low = 0.0, high = 2.0 * r;
-  for (int i = 0; i < 200; ++i) {
-    const double h = 0.5 * (low + high);
-    (kPi * h * h * (3.0 * r - h) / 3.0 < v ? low : high) = h;
-  }
-  return 0.5 * (low + high);
-}
-
 }  // namespace
 
 TEST_CASE("a sphere shape floats at its closed-form draft with its closed-form mass", "[floating][sphere]") {
@@ -54,7 +44,7 @@ TEST_CASE("a sphere shape floats at its closed-form draft with its closed-form m
     CHECK(report->massProperties.inertia(0, 0) == Approx(0.4 * mass * radius * radius).epsilon(1e-12));
     for (int i = 0; i < 600; ++i) world.step(1.0 / 60.0);  // 10 s: drag settles it
     // At rest the cap displaces the weight: V = m / rho_w, the centre r - h above the water.
-    const double h = capHeight(radius, mass / 1000.0);
+    const double h = testing::sphereDraft(radius, mass / 1000.0);
     // Bullet's float positions (1e-7 m) and the rest rule's residual force (1e-3 of the weight,
     // over the water plane's stiffness rho g pi a^2: about 0.1 mm) bound the draft's error.
     CHECK(double(body.getCenterOfMassPosition().y()) == Approx(radius - h).margin(2e-4));
