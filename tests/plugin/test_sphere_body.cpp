@@ -48,7 +48,10 @@ TEST_CASE("a sphere shape floats at its closed-form draft with its closed-form m
     // Bullet's float positions (1e-7 m) and the rest rule's residual force (1e-3 of the weight,
     // over the water plane's stiffness rho g pi a^2: about 0.1 mm) bound the draft's error.
     CHECK(double(body.getCenterOfMassPosition().y()) == Approx(radius - h).margin(2e-4));
-    CHECK(report->hydrostatics.submergedVolume == Approx(mass / 1000.0).epsilon(2e-3));
+    INFO("submerged volume " << report->hydrostatics.submergedVolume << " m^3, weight / rho_w " << mass / 1000.0);
+    // At rest the net force is at most 1e-3 of the weight (the rest rule), so the buoyancy, and the
+    // displaced volume, equal the weight's within 1e-3. Measured: 1.4e-4.
+    CHECK(report->hydrostatics.submergedVolume == Approx(mass / 1000.0).epsilon(1e-3));
     world.world().removeRigidBody(&body);
     world.controller().removeBody(&body);
   }
