@@ -224,7 +224,7 @@ void addSimulateVerb(CLI::App& app, VerbAction& action) {
   verb->add_option("--method", options->method,
                    "Hydrostatics path of every rigid body: texture, polyhedral (exact) or auto (chosen per body at "
                    "registration by the advisor, error 1e-4 of the volume unless the scene's auto_method_error says); "
-                   "default: each body's `method`")
+                   "default: each body's `method`, which is auto unless the scene names another")
       ->check(CLI::IsMember({"texture", "polyhedral", "auto"}));
   verb->add_flag("--json", options->json, "Print the summary as one JSON object");
   verb->callback([options, &action] { action = [options] { return runSimulate(*options); }; });

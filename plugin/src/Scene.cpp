@@ -373,7 +373,7 @@ Expected<SceneBody> parseBody(const Json& json, const std::string& path, const s
   HYDROTEX_TRY(reader.vector<3>("linear_velocity", body.linearVelocity));
   HYDROTEX_TRY(reader.vector<3>("angular_velocity", body.angularVelocity));
   HYDROTEX_TRY(reader.integer("resolution", body.resolution));
-  std::string method = "texture";
+  std::string method = "auto";
   HYDROTEX_TRY(reader.string("method", method));
   if (method == "texture") {
     body.method = HydrostaticsMethod::Texture;

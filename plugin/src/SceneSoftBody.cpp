@@ -75,7 +75,9 @@ Status checkSoftBody(const SceneBody& body, const std::string& path, const std::
   if (body.shellDensity > 0.0 || body.densityMap) return Error{where + "a soft body takes density or mass, no shell_density or density_map"};
   if (!body.pointMasses.empty()) return Error{where + "a soft body takes no point_masses"};
   if (!body.scaleKeyframes.empty()) return Error{where + "a soft body deforms by itself: no deform"};
-  if (body.method != HydrostaticsMethod::Texture) return Error{where + "a soft body takes the texture method only"};
+  // Auto (the default) resolves to the texture path for every deforming body, so a soft body takes it.
+  if (body.method == HydrostaticsMethod::Polyhedral)
+    return Error{where + "a soft body takes the texture method only (method \"texture\" or \"auto\")"};
   if (body.effects.has(Effect::Wetting) || body.effects.has(Effect::Flooding) || body.effects.has(Effect::VariableMass) ||
       body.effects.has(Effect::Deformation) || body.effects.has(Effect::AddedMass))
     return Error{where + "a soft body takes buoyancy and drag only (no wetting, flooding, variable_mass, deformation or added_mass)"};

@@ -43,6 +43,7 @@ std::shared_ptr<const ImageMap> damageMap(const Mesh& mesh,
 FloatingBodySettings barge(std::shared_ptr<const ImageMap> map) {
   FloatingBodySettings settings;
   settings.shellDensity = 60.0;
+  settings.method = HydrostaticsMethod::Texture;  // the texture path on every backend (Auto picks the exact one for a box)
   settings.resolution = kResolution;
   settings.effects = EffectSet{Effect::Buoyancy, Effect::Drag, Effect::Flooding};
   settings.flooding.permeabilityMap = std::move(map);

@@ -36,6 +36,7 @@ Mesh openBox() {
 FloatingBodySettings shellOnly(double shellDensity) {
   FloatingBodySettings settings;
   settings.shellDensity = shellDensity;
+  settings.method = HydrostaticsMethod::Texture;  // the path whose lids and texels this suite checks (Auto picks the exact one)
   settings.resolution = 64;
   settings.effects = EffectSet{Effect::Buoyancy, Effect::Drag, Effect::Flooding};
   settings.flooding.graph.cellBudget = 4096;

@@ -166,8 +166,9 @@ struct FloatingBodySettings {
   MeshLoadSettings load;
   /// Texels per side of the bake (16..4096); 256 is a good default for game objects.
   int resolution = 256;
-  /// Hydrostatics path.
-  HydrostaticsMethod method = HydrostaticsMethod::Texture;
+  /// Hydrostatics path: Auto by default (resolved once at addBody, the same on every machine; the
+  /// report's `method` says which path runs); Texture or Polyhedral to choose one.
+  HydrostaticsMethod method = HydrostaticsMethod::Auto;
   /// With HydrostaticsMethod::Auto: the largest error allowed of the texture path, relative to the
   /// body's volume (submerged volume) and to its bounding-box diagonal (centre of buoyancy);
   /// 1e-4 by default (> 0).

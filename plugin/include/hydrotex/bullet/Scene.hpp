@@ -67,7 +67,7 @@ struct SceneBody {
   Eigen::Vector3d linearVelocity = Eigen::Vector3d::Zero();  ///< m/s, of the centre of mass
   Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero(); ///< rad/s
   int resolution = 256;                                      ///< texels per side
-  HydrostaticsMethod method = HydrostaticsMethod::Texture;   ///< hydrostatics path (`method`: "texture", "polyhedral" or "exact", "auto")
+  HydrostaticsMethod method = HydrostaticsMethod::Auto;      ///< hydrostatics path (`method`: "auto", the default, "texture", "polyhedral" or "exact")
   double autoMethodError = 1e-4;                             ///< `auto_method_error`: the texture path's largest error for "auto" (of the volume)
   EffectSet effects{Effect::Buoyancy, Effect::Drag};         ///< effects it pays for
   double shellDensity = 0.0;                                 ///< kg/m^2 (`shell_density`) at rest; a deforming shell keeps its mass
