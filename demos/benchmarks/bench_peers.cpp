@@ -13,7 +13,8 @@
 // Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
 // states, timed alone: "exact us" polyhedralHydrostaticsUnchecked on the mesh, "prep us"
 // polyhedralHydrostatics on a PreparedPolyhedron (what the controller calls, the same bits) and
-// "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat water), "drag us"
+// "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat water), "update us"
+// implicitVelocityUpdate with those loads and stiffness (every body's step solves it), "drag us"
 // rigidBodyDrag with the drag
 // patches the controller makes (from the 256^2 bake), "mdrag us" the same on meshDragPatches
 // (what it could make for an exact-path body, no bake); the rest of "ours" is the controller's own (Bullet reads and
@@ -129,6 +130,7 @@ struct Pass {
   double hydrostaticsUs = 0.0;   ///< exact path alone, same states (0: not measured)
   double preparedUs = 0.0;       ///< exact path on a PreparedPolyhedron, same states (0: not measured)
   double closedFormUs = 0.0;     ///< a sphere's closed form (sphereHydrostatics), same states (0: not a sphere)
+  double updateUs = 0.0;         ///< implicitVelocityUpdate with the exact hydrostatics' loads, same states
   double dragUs = 0.0;           ///< drag alone, same states (0: not measured)
   double meshDragUs = 0.0;       ///< drag alone on meshDragPatches (same settings), same states
   std::size_t texelPatches = 0, meshPatches = 0;  ///< drag patches: the controller's (from the bake), meshDragPatches'
@@ -224,6 +226,28 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                             if (Expected<HydrostaticsResult> answer = polyhedralHydrostatics(*polyhedron, surface, query))
                               sink += answer->buoyancyForce.y();
                       }) / (repeats * double(queries.size()));
+  // The implicit velocity update on the same states with their exact loads and stiffness (every
+  // body's step solves it once, drag or not).
+  if (polyhedron) {
+    std::vector<ImplicitUpdateInput> updates;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      Expected<HydrostaticsResult> answer = polyhedralHydrostatics(*polyhedron, surface, queries[i]);
+      if (!answer) continue;
+      ImplicitUpdateInput update;
+      update.gravity = Eigen::Vector3d(0.0, -queries[i].gravity, 0.0);
+      update.force = answer->buoyancyForce;
+      update.torque = answer->torqueAboutCenterOfMass;
+      update.stiffness = answer->stiffness;
+      updates.push_back(update);
+    }
+    const int updateRepeats = 200;
+    pass.updateUs = 1e3 * bench::medianMs(5, [&] {
+                      for (int k = 0; k < updateRepeats; ++k)
+                        for (std::size_t i = 0; i < updates.size(); ++i)
+                          if (Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motions[i], updates[i], scene.dt))
+                            sink += next->linear.y();
+                    }) / (updateRepeats * double(std::max<std::size_t>(updates.size(), 1)));
+  }
   if (prototype.shape && prototype.shape->type == SceneShape::Type::Sphere && surface.flatHeight()) {
     const int sphereRepeats = 200;
     pass.closedFormUs = 1e3 * bench::medianMs(5, [&] {
@@ -301,13 +325,13 @@ int main(int argc, char** argv) {
   std::ofstream csv(csvPath);
   csv << "body,triangles,method,resolved,surface,effects,runs,bodies,controller_us_per_body_step,peer,peer_us,goal_us,"
          "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,texel_patches,mesh_patch_drag_us,"
-         "mesh_patches,queries_per_step,mean_abs_vy\n";
+         "mesh_patches,implicit_update_us,queries_per_step,mean_abs_vy\n";
   std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
               "of %d steps\n",
               kBodies, runs, steps);
-  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %8s %7s\n", "body", "tris", "method",
-              "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed", "drag us",
-              "mdrag us", "query/st", "|vy|m/s");
+  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %9s %8s %7s\n", "body", "tris",
+              "method", "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed",
+              "drag us", "mdrag us", "update us", "query/st", "|vy|m/s");
   std::map<std::string, double> flatFigure;
   for (const std::string& surface : surfaces) {
     const Scene& scene = scenes.at(surface);
@@ -329,7 +353,7 @@ int main(int argc, char** argv) {
       for (const std::string& method : methods) {
         for (const bool drag : {false, true}) {
           const Case c{bodyName, method, surface, drag};
-          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, queries, speeds;
+          std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, updateUs, queries, speeds;
           Pass last;
           for (int r = 0; r < runs; ++r) {
             last = runPass(scene, *prototype, *mesh, c, steps);
@@ -339,6 +363,7 @@ int main(int argc, char** argv) {
             closedUs.push_back(last.closedFormUs);
             dragUs.push_back(last.dragUs);
             meshDragUs.push_back(last.meshDragUs);
+            updateUs.push_back(last.updateUs);
             queries.push_back(last.queriesPerStep);
             speeds.push_back(last.meanVerticalSpeed);
           }
@@ -356,16 +381,16 @@ int main(int argc, char** argv) {
           }
           const double ratio = goal > 0.0 ? figure / goal : 0.0;
           const char* effects = drag ? "buoyancy+drag" : "buoyancy";
-          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %8.1f %7.3f\n",
+          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %9.3f %8.1f %7.3f\n",
                       bodyName.c_str(), last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects,
                       figure, peerText.c_str(), goal, ratio, median(hydro), median(preparedUs), median(closedUs),
-                      median(dragUs), median(meshDragUs), median(queries), median(speeds));
+                      median(dragUs), median(meshDragUs), median(updateUs), median(queries), median(speeds));
           std::fflush(stdout);
           csv << bodyName << ',' << last.triangles << ',' << method << ',' << last.resolved << ',' << surface << ','
               << effects << ',' << runs << ',' << kBodies << ',' << figure << ',' << peerText << ',' << peerUs << ','
               << goal << ',' << ratio << ',' << median(hydro) << ',' << median(preparedUs) << ',' << median(closedUs) << ','
               << median(dragUs) << ',' << last.texelPatches << ',' << median(meshDragUs) << ',' << last.meshPatches << ','
-              << median(queries) << ',' << median(speeds) << '\n';
+              << median(updateUs) << ',' << median(queries) << ',' << median(speeds) << '\n';
         }
       }
     }

@@ -20,8 +20,8 @@
 namespace hydrotex {
 namespace {
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector4d = Eigen::Matrix<double, 4, 1>;
+using Matrix4d = Eigen::Matrix<double, 4, 4>;
 
 /// The part of a stiffness taken implicitly, in the metric of the generalized mass M (so that
 /// heave in N/m and roll in N m/rad compare fairly): with M = L L^T, the modes of L^-1 K L^-T.
@@ -37,9 +37,13 @@ Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen:
   const Eigen::LLT<Eigen::Matrix3d> cholesky(generalizedMass);
   const Eigen::Matrix3d lower = cholesky.matrixL();
   const Eigen::Matrix3d symmetric = 0.5 * (stiffness + stiffness.transpose());
-  const Eigen::Matrix3d left = lower.triangularView<Eigen::Lower>().solve(symmetric);
-  const Eigen::Matrix3d normalized = lower.triangularView<Eigen::Lower>().solve(left.transpose());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(0.5 * (normalized + normalized.transpose()));
+  // L^-1 K L^-T with L^-1 from the fixed-size 3x3 inverse (cofactors): no general triangular solve.
+  const Eigen::Matrix3d lowerInverse = lower.inverse();
+  const Eigen::Matrix3d normalized = lowerInverse * symmetric * lowerInverse.transpose();
+  // The closed-form 3x3 solver (trigonometric roots): several times cheaper than the iterative
+  // one, and every body's step asks it; its eigenvalues are accurate to ~1e-15 of the largest.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(0.5 * (normalized + normalized.transpose()));
   Eigen::Vector3d rates = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i) {
     const double rate = solver.eigenvalues()[i];
@@ -341,23 +345,21 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   // has I_xx ~ its transverse inertia unless it points exactly along x, yet rolls about its own
   // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
   // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
+  // M is m' I on v and the inertia on w, and K acts on (v_y, w_x, w_z): v_x and v_z are decoupled
+  // (one division each), and the rest is the 4x4 system in u4 = (v_y, w_x, w_y, w_z).
   const double mass = motion.mass;
   const Eigen::Matrix3d& inertiaWorld = motion.inertiaWorld;
   const Eigen::Vector3d& v = motion.linearVelocity;
   const Eigen::Vector3d& w = motion.angularVelocity;
   const double effectiveMass = mass + input.addedMass;
-  Matrix6d system = Matrix6d::Zero();
-  system.topLeftCorner<3, 3>() = effectiveMass * Eigen::Matrix3d::Identity();
-  system.bottomRightCorner<3, 3>() = inertiaWorld;
-  Vector6d rhs;
-  rhs.head<3>() = effectiveMass * v + dt * (mass * input.gravity + input.force);
-  rhs.tail<3>() = inertiaWorld * w + dt * input.torque;
-  if (input.dragDamping > 0.0) {
-    rhs.head<3>() += input.dragDamping * mass * v;
-    rhs.tail<3>() += input.dragDamping * (inertiaWorld * w);
-    system.topLeftCorner<3, 3>() += input.dragDamping * mass * Eigen::Matrix3d::Identity();
-    system.bottomRightCorner<3, 3>() += input.dragDamping * inertiaWorld;
-  }
+  const double damping = input.dragDamping > 0.0 ? input.dragDamping : 0.0;
+  const double translational = effectiveMass + damping * mass;
+  const Eigen::Vector3d linearRhs = effectiveMass * v + dt * (mass * input.gravity + input.force) + damping * mass * v;
+  const Eigen::Vector3d angularRhs = (1.0 + damping) * (inertiaWorld * w) + dt * input.torque;
+  Matrix4d system = Matrix4d::Zero();
+  system(0, 0) = translational;
+  system.bottomRightCorner<3, 3>() = (1.0 + damping) * inertiaWorld;
+  Vector4d rhs(linearRhs.y(), angularRhs.x(), angularRhs.y(), angularRhs.z());
   const bool stiff = !input.stiffness.isZero(0.0) && input.stiffness.allFinite();
   if (stiff) {
     double rate = 0.0;
@@ -366,13 +368,16 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
     generalizedMass.bottomRightCorner<2, 2>() = rollPitchInertia(inertiaWorld);
     const Eigen::Matrix3d implicitPart = implicitStiffness(input.stiffness, generalizedMass, dt, rate);
     const double theta = std::min(1.0, rate * dt * dt);
-    static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z
+    static constexpr int kIndex[3] = {0, 1, 3};  // heave -> v_y, roll -> w_x, pitch -> w_z (in u4)
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * implicitPart(i, j);
   }
-  const Vector6d next = system.ldlt().solve(rhs);
-  if (!next.allFinite()) return Error{"implicit velocity update: the step's system gave non-finite velocities"};
-  return RigidBodyVelocities{next.head<3>(), next.tail<3>()};
+  const Vector4d coupled = system.ldlt().solve(rhs);
+  const RigidBodyVelocities next{Eigen::Vector3d(linearRhs.x() / translational, coupled[0], linearRhs.z() / translational),
+                                 coupled.tail<3>()};
+  if (!next.linear.allFinite() || !next.angular.allFinite())
+    return Error{"implicit velocity update: the step's system gave non-finite velocities"};
+  return next;
 }
 
 bool whollyAboveSurface(const LiquidSurface& surface, const Eigen::Vector3d& sphereCenter, double radius, double time) {
