@@ -22,7 +22,9 @@
 //
 // Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
 // (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
-// --surfaces LIST (flat,waves).
+// --surfaces LIST (flat,waves), --mixed N (100; 0: skip): after the table, a world of N bodies of
+// the templates in turn on `auto` with buoyancy + drag, the whole world step on 1 and 2 threads
+// (issue 19's goal: under 2 ms on three waves with both cores), written to FILE_mixed.csv.
 
 #include <btBulletDynamicsCommon.h>
 
@@ -303,6 +305,60 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
   return pass;
 }
 
+/// A mixed world's step: `bodies` of the scene's template bodies in turn (boxes, hulls, spheres,
+/// ships), each `auto` as a user gets it, buoyancy + drag, kept awake; the whole world step
+/// (Bullet and the controller) per step in ms over `steps` steps after 10 of warm-up, on `threads`.
+struct MixedPass {
+  double worldMs = 0.0, controllerMs = 0.0;
+  std::map<std::string, int> resolved;  ///< template body -> bodies on the exact path
+};
+
+MixedPass runMixed(const Scene& base, int bodies, int threads, int steps) {
+  Scene scene = base;
+  scene.sourceName = "bench_peers mixed";
+  scene.threads = threads;
+  scene.backend = "cpu";
+  scene.bodies.clear();
+  const int columns = 10;
+  for (int i = 0; i < bodies; ++i) {
+    SceneBody body = base.bodies[std::size_t(i) % base.bodies.size()];
+    body.name += std::to_string(i);
+    body.method = HydrostaticsMethod::Auto;
+    body.effects = EffectSet{Effect::Buoyancy, Effect::Drag};
+    // 4 m apart (the ship is 2 m long), heights and headings varied per body.
+    body.position += Eigen::Vector3d(4.0 * (i % columns), 0.02 * (i % 5) - 0.04, 4.0 * (i / columns));
+    body.rotationDegrees += Eigen::Vector3d(2.0 * (i % 3), 37.0 * i, 1.5 * (i % 4));
+    scene.bodies.push_back(body);
+  }
+  auto created = SceneWorld::create(scene);
+  if (!created) {
+    std::fprintf(stderr, "bench_peers: %s\n", created.error().message.c_str());
+    std::exit(1);
+  }
+  SceneWorld& world = **created;
+  for (btRigidBody* body : world.bodies()) body->setActivationState(DISABLE_DEACTIVATION);
+  BuoyancyController& controller = world.controller();
+  TimedAction timed(controller);
+  world.world().removeAction(&controller);
+  world.world().addAction(&timed);
+  for (int i = 0; i < 10; ++i) world.step();
+  timed.seconds = 0.0;
+  const auto start = Clock::now();
+  for (int i = 0; i < steps; ++i) world.step();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  world.world().removeAction(&timed);
+  world.world().addAction(&controller);
+  MixedPass pass;
+  pass.worldMs = 1e3 * seconds / steps;
+  pass.controllerMs = 1e3 * timed.seconds / steps;
+  for (std::size_t i = 0; i < world.bodies().size(); ++i) {
+    const FloatingBodyReport* report = controller.report(world.bodies()[i]);
+    const std::string& name = base.bodies[i % base.bodies.size()].name;
+    pass.resolved[name] += report != nullptr && report->method == HydrostaticsMethod::Polyhedral ? 1 : 0;
+  }
+  return pass;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -312,6 +368,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> bodies = split(option(argc, argv, "--bodies", "box,hull,sphere,mesh"));
   const std::vector<std::string> methods = split(option(argc, argv, "--methods", "exact,texture,auto"));
   const std::vector<std::string> surfaces = split(option(argc, argv, "--surfaces", "flat,waves"));
+  const int mixedBodies = std::stoi(option(argc, argv, "--mixed", "100"));
 
   std::map<std::string, Scene> scenes;
   for (const std::string& surface : surfaces) {
@@ -392,6 +449,45 @@ int main(int argc, char** argv) {
               << median(dragUs) << ',' << last.texelPatches << ',' << median(meshDragUs) << ',' << last.meshPatches << ','
               << median(updateUs) << ',' << median(queries) << ',' << median(speeds) << '\n';
         }
+      }
+    }
+  }
+  // Issue 19: 100 mixed bodies on three waves, buoyancy + drag, whole world step on both cores
+  // under 2 ms (the flat row for scale). The table and its CSV (FILE with "_mixed" before ".csv").
+  if (mixedBodies > 0) {
+    std::string mixedPath = csvPath;
+    const std::size_t dot = mixedPath.rfind(".csv");
+    mixedPath.insert(dot == std::string::npos ? mixedPath.size() : dot, "_mixed");
+    std::ofstream mixedCsv(mixedPath);
+    mixedCsv << "surface,bodies,threads,runs,world_ms_per_step,controller_ms_per_step,goal_ms,ratio_to_goal,exact_bodies\n";
+    std::printf("\n%d mixed bodies (the templates in turn, auto, buoyancy + drag), whole world step (ms), median of %d "
+                "passes of %d steps\n",
+                mixedBodies, runs, steps);
+    std::printf("%-6s %7s %9s %13s %8s %7s  %s\n", "water", "threads", "world ms", "controller ms", "goal ms", "ratio",
+                "exact-path bodies");
+    for (const std::string& surface : surfaces) {
+      for (const int threads : {1, 2}) {
+        std::vector<double> world, controllerMs;
+        MixedPass last;
+        for (int r = 0; r < runs; ++r) {
+          last = runMixed(scenes.at(surface), mixedBodies, threads, steps);
+          world.push_back(last.worldMs);
+          controllerMs.push_back(last.controllerMs);
+        }
+        const double goal = surface == "waves" && threads == 2 ? 2.0 : 0.0;
+        std::string exact;
+        int exactCount = 0;
+        for (const auto& [name, count] : last.resolved) {
+          exact += (exact.empty() ? "" : " ") + name + " " + std::to_string(count);
+          exactCount += count;
+        }
+        std::printf("%-6s %7d %9.3f %13.3f %8s %7s  %s\n", surface.c_str(), threads, median(world), median(controllerMs),
+                    goal > 0.0 ? "2.000" : "-", goal > 0.0 ? std::to_string(median(world) / goal).substr(0, 5).c_str() : "-",
+                    exact.c_str());
+        std::fflush(stdout);
+        mixedCsv << surface << ',' << mixedBodies << ',' << threads << ',' << runs << ',' << median(world) << ','
+                 << median(controllerMs) << ',' << goal << ',' << (goal > 0.0 ? median(world) / goal : 0.0) << ','
+                 << exactCount << '\n';
       }
     }
   }
