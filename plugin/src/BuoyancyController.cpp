@@ -176,11 +176,14 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   // PrimitiveHydrostatics and PrimitiveMassProperties) instead of the exact path on its tessellation,
   // which is up to 1e-3 lighter and slower, unless the texture path is asked for or something needs
   // the texels (a mass model, deformation).
+  const bool deforming = settings.effects.has(Effect::Deformation);
+  const bool flooding = settings.effects.has(Effect::Flooding);
+  const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
+  const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
+                              settings.effects.has(Effect::VariableMass) || deforming || flooding;
   std::optional<double> sphereRadius;
   if (!settings.mesh && settings.meshPath.empty() && body->getCollisionShape()->getShapeType() == SPHERE_SHAPE_PROXYTYPE &&
-      settings.method != HydrostaticsMethod::Texture && settings.shellDensity == 0.0 && !settings.densityMap &&
-      settings.pointMasses.empty() && !settings.effects.has(Effect::VariableMass) &&
-      !settings.effects.has(Effect::Deformation) && !settings.effects.has(Effect::Flooding)) {
+      settings.method != HydrostaticsMethod::Texture && !wantsMassModel) {
     sphereRadius = double(static_cast<const btSphereShape*>(body->getCollisionShape())->getRadius());
   }
   if (settings.mesh) {
@@ -198,11 +201,6 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
   }
   const Mesh& mesh = *floating->mesh;
-  const bool deforming = settings.effects.has(Effect::Deformation);
-  const bool flooding = settings.effects.has(Effect::Flooding);
-  const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
-  const bool wantsMassModel = hollowAllowed || !settings.pointMasses.empty() ||
-                              settings.effects.has(Effect::VariableMass) || deforming || flooding;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
   const HydrostaticsMethod method = floating->report.method =
@@ -456,16 +454,17 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
 
 HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh) {
   if (settings.method != HydrostaticsMethod::Auto) return settings.method;
-  ++statistics_.autoMethodChoices;
-  if (settings.mesh == nullptr) return resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
+  if (settings.mesh == nullptr) {
+    ++statistics_.autoMethodChoices;
+    return resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
+  }
   // The choice depends only on the key's parts: a crate of a kind is measured once.
   const AutoKey key{settings.mesh.get(), settings.resolution, settings.autoMethodError,
                     settings.effects.has(Effect::Deformation), liquid_.surface.get()};
   auto found = autoChoices_.find(key);
-  if (found != autoChoices_.end() && found->second.mesh.lock() == settings.mesh) {
-    --statistics_.autoMethodChoices;  // not resolved again: taken from the first body of the mesh
-    return found->second.method;
-  }
+  // Not resolved again: taken from the first body of the mesh (and not counted).
+  if (found != autoChoices_.end() && found->second.mesh.lock() == settings.mesh) return found->second.method;
+  ++statistics_.autoMethodChoices;
   const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
   autoChoices_[key] = AutoChoice{settings.mesh, method};
   return method;
