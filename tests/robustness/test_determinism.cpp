@@ -108,7 +108,7 @@ bullet::Scene mixedScene() {
 std::vector<std::uint64_t> counters(const bullet::ControllerStatistics& s) {
   return {s.steps, s.hydrostaticsQueries, s.dragPasses, s.dragPatchesVisited, s.addedMassUpdates,
           s.skippedOutOfLiquid, s.skippedAsleep, s.failedQueries, s.massUpdates, s.massTexelPasses,
-          s.deformations, s.floodingSteps, s.permeableTexelsVisited, s.wettingSteps};
+          s.deformations, s.floodingSteps, s.permeableTexelsVisited, s.wettingSteps, s.massBatches, s.massBatchBodies};
 }
 
 /// A Bullet task scheduler with two threads (as a BT_THREADSAFE Bullet's would be): the first
