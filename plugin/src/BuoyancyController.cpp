@@ -639,19 +639,31 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   threads_->forEach(bodies_.size(), [this](std::size_t i) { writeBody(*bodies_[i], results_[i]); });
   for (const auto& floating : bodies_) addCounters(statistics_, floating->stepCounters);
   timings_.write += secondsSince(start);
-  // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
-  // positions and activation in the same pass; it would have to be split into phases as above.
+  // Soft bodies on the threads: each apply() reads and writes only its own btSoftBody (nodes,
+  // activation) and its own scratch, and reads the shared liquid (const) and world info; the
+  // counters are added afterwards in registration order, so any thread count gives the same bits.
   start = Clock::now();
-  const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
-  for (SoftBodyBuoyancy& soft : softBodies_) {
-    if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
-      ++statistics_.failedQueries;
-      continue;
+  if (!softBodies_.empty()) {
+    softApplied_.assign(softBodies_.size(), 0);
+    const struct {
+      const LiquidSurface& surface;
+      SoftBodyLiquid liquid;
+      double time, dt;
+    } soft{*liquid_.surface, SoftBodyLiquid{liquid_.viscosity, toEigen(liquid_.current)}, time_, dt};
+    // Two pointers captured: std::function keeps them without allocating (test_controller.cpp).
+    threads_->forEach(softBodies_.size(), [this, &soft](std::size_t i) {
+      softApplied_[i] = softBodies_[i].apply(soft.surface, soft.time, soft.dt, soft.liquid).ok();
+    });
+    for (std::size_t i = 0; i < softBodies_.size(); ++i) {
+      if (!softApplied_[i]) {
+        ++statistics_.failedQueries;
+        continue;
+      }
+      const SoftBodyReport& done = softBodies_[i].report();  // the same counters as rigid bodies' effects
+      if (done.pressureApplied) ++statistics_.hydrostaticsQueries;
+      if (done.dragApplied) ++statistics_.dragPasses;
+      statistics_.dragPatchesVisited += done.dragTexelsVisited;
     }
-    const SoftBodyReport& done = soft.report();  // the same counters as rigid bodies' effects
-    if (done.pressureApplied) ++statistics_.hydrostaticsQueries;
-    if (done.dragApplied) ++statistics_.dragPasses;
-    statistics_.dragPatchesVisited += done.dragTexelsVisited;
   }
   timings_.softBodies += secondsSince(start);
 }

@@ -233,7 +233,8 @@ class BuoyancyController : public btActionInterface {
   /// RigidBodiesStep plans, asks the backend once for every texture body's hydrostatics (one
   /// batch, read back once) while the drag is summed, and runs each body's implicit update; write
   /// each body's velocities and sleeping state back (parallel, each its own) and add the counters
-  /// in registration order. Soft bodies follow, serially.
+  /// in registration order. The soft bodies follow, on the threads (each its own btSoftBody),
+  /// their counters added in registration order.
   void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
   /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
   /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
@@ -259,6 +260,7 @@ class BuoyancyController : public btActionInterface {
   ControllerSettings settings_;
   std::vector<std::unique_ptr<FloatingBody>> bodies_;
   std::vector<SoftBodyBuoyancy> softBodies_;
+  std::vector<char> softApplied_;              ///< this step: soft body i's apply() succeeded (registration order)
   ControllerStatistics statistics_;
   ControllerTimings timings_;
   std::unique_ptr<BodyThreads> threads_;
