@@ -47,7 +47,10 @@ class MassModelsStep {
   /// name a backend body go to `backend` in one batch (none asked when none is due); a failed
   /// batch is asked again body by body, so that one bad map does not cost the others their
   /// update. A task whose pass or combination failed gets its Error. Each result depends only on
-  /// its own model and texels, so the results are the same in any batch. Writes
+  /// its own model and texels, so the results are the same in any batch. The CPU backend holds an
+  /// equal TextureMassIntegrator, so its answers have the bits of MassModel::properties; the GL
+  /// backend's sums round in float per workgroup (parity with the CPU within 1e-5 of the mass,
+  /// tests/gpu/test_backend_parity.cpp). Writes
   /// min(tasks.size(), results.size()) results.
   MassModelsStepStatistics run(ComputeBackend& backend, std::span<const MassModelTask> tasks,
                                std::span<std::optional<Expected<MassProperties>>> results);

@@ -228,8 +228,8 @@ class BuoyancyController : public btActionInterface {
   /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in phases
   /// over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels): apply each
   /// body's deformation and flooding (serial), core's MassModelsStep asks the backend once for
-  /// every due texel mass pass and each changed mass goes to Bullet (serial), read its kinematics into a
-  /// RigidBodyTask and step its liquid texture (parallel, ControllerSettings::threads); core's
+  /// every due texel mass pass and each changed mass goes to Bullet (serial), read its kinematics
+  /// into a RigidBodyTask and step its liquid texture (parallel, ControllerSettings::threads); core's
   /// RigidBodiesStep plans, asks the backend once for every texture body's hydrostatics (one
   /// batch, read back once) while the drag is summed, and runs each body's implicit update; write
   /// each body's velocities and sleeping state back (parallel, each its own) and add the counters
