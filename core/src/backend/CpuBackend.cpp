@@ -126,11 +126,7 @@ class CpuBackend final : public ComputeBackend {
         failures_[i] = result.error();
       }
     };
-    if (parallelFor_ && queries.size() > 1) {
-      parallelFor_(queries.size(), answer);
-    } else {
-      for (std::size_t i = 0; i < queries.size(); ++i) answer(i);
-    }
+    forEachBody(queries.size(), answer);
     for (std::size_t i = 0; i < queries.size(); ++i)
       if (failures_[i]) return Error{"cpu backend: body " + std::to_string(queries[i].body) + ": " + failures_[i]->message};
     std::copy(answers_.begin(), answers_.end(), results.begin());
@@ -162,11 +158,7 @@ class CpuBackend final : public ComputeBackend {
         failures_[i] = result.error();
       }
     };
-    if (parallelFor_ && ids.size() > 1) {
-      parallelFor_(ids.size(), answer);
-    } else {
-      for (std::size_t i = 0; i < ids.size(); ++i) answer(i);
-    }
+    forEachBody(ids.size(), answer);
     for (std::size_t i = 0; i < ids.size(); ++i)
       if (failures_[i]) return Error{"cpu backend: body " + std::to_string(ids[i]) + ": " + failures_[i]->message};
     std::copy(massAnswers_.begin(), massAnswers_.end(), results.begin());
@@ -180,6 +172,17 @@ class CpuBackend final : public ComputeBackend {
     TextureMassIntegrator integrator;
     Eigen::Vector3d referencePoint;
   };
+
+  // Calls answer(i) for every i in [0, count): through parallelFor_ when one was given and there
+  // is more than one, else in order. Each answer reads only its own body and writes only its own
+  // slot, so the results are the same for every thread count.
+  void forEachBody(std::size_t count, const std::function<void(std::size_t)>& answer) {
+    if (parallelFor_ && count > 1) {
+      parallelFor_(count, answer);
+      return;
+    }
+    for (std::size_t i = 0; i < count; ++i) answer(i);
+  }
 
   // Same batch rules as every backend: known bodies, each at most once.
   Status checkBatch(std::span<const BackendHydrostaticsQuery> queries, std::size_t room) {
