@@ -117,6 +117,7 @@ TEST_CASE("mass phase: one backend batch, the same bits as each model's own pass
   REQUIRE(results[1]->ok());
   CHECK(sameBits(**results[1], *bodies.reference[1].properties()));
   CHECK(bodies.stepped[1].texelPasses() == 2);
+  CHECK(bodies.stepped[1].texelModel().texelDensity == map);  // the map lent to the batch came back
   CHECK(bodies.stepped[2].texelPasses() == 1);
 }
 
@@ -139,6 +140,7 @@ TEST_CASE("mass phase: a bad density map fails its own body, not the batch", "[s
   REQUIRE_FALSE(results[2]->ok());
   CHECK(results[2]->error().message.find("densit") != std::string::npos);
   CHECK(bodies.stepped[2].needsTexelPass());  // still due: nothing was stored
+  CHECK(bodies.stepped[2].texelModel().texelDensity.size() == bodies.stepped[2].texelCount());  // its map came back
 }
 
 TEST_CASE("mass phase: models without a backend body or following triangles evaluate themselves", "[step][mass]") {

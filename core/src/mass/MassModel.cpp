@@ -198,6 +198,15 @@ Expected<MassProperties> MassModel::properties() {
   return combine();
 }
 
+void MassModel::lendTexelModel(TextureMassModel& batch) {
+  batch.solidDensity = distributed_.solidDensity;
+  batch.shellDensity = distributed_.shellDensity;
+  batch.referencePoint = distributed_.referencePoint;
+  batch.texelDensity.swap(distributed_.texelDensity);
+}
+
+void MassModel::takeBackTexelModel(TextureMassModel& batch) { batch.texelDensity.swap(distributed_.texelDensity); }
+
 Expected<MassProperties> MassModel::finish(const MassProperties& texelPart) {
   if (!needsTexelPass()) return Error{"mass model: no texel pass is due (finish without needsTexelPass)"};
   if (!std::isfinite(texelPart.mass) || !std::isfinite(texelPart.volume) || !texelPart.centerOfMass.allFinite() ||

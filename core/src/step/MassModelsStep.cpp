@@ -3,20 +3,9 @@
 /// The mass phase of a step: one backend batch for every due texel pass, then each model finishes.
 #include "hydrotex/step/MassModelsStep.hpp"
 
+#include <algorithm>
+
 namespace hydrotex {
-namespace {
-
-// `into` becomes a copy of `from` without allocating once its map's capacity has grown: the
-// backend takes its models as one contiguous span, and a model's map stays the model's. The copy
-// is 4 bytes a texel against the pass's 20 (four cone terms and the density) read by the backend.
-void copyModel(const TextureMassModel& from, TextureMassModel& into) {
-  into.solidDensity = from.solidDensity;
-  into.shellDensity = from.shellDensity;
-  into.referencePoint = from.referencePoint;
-  into.texelDensity.assign(from.texelDensity.begin(), from.texelDensity.end());
-}
-
-}  // namespace
 
 MassModelsStepStatistics MassModelsStep::run(ComputeBackend& backend, std::span<const MassModelTask> tasks,
                                              std::span<std::optional<Expected<MassProperties>>> results) {
@@ -32,7 +21,9 @@ MassModelsStepStatistics MassModelsStep::run(ComputeBackend& backend, std::span<
     ids_.push_back(*task.backendBody);
     taskOfQuery_.push_back(i);
     if (models_.size() <= used) models_.emplace_back();
-    copyModel(task.model->texelModel(), models_[used++]);
+    // The map is lent, not copied (a map is 4 bytes a texel, the pass reads 20): every lent map
+    // goes back below, before any model is touched again, whatever the backend answered.
+    task.model->lendTexelModel(models_[used++]);
   }
   // One batch, read back once; a failed batch (nothing written) is asked again body by body.
   answers_.resize(ids_.size());
@@ -51,6 +42,7 @@ MassModelsStepStatistics MassModelsStep::run(ComputeBackend& backend, std::span<
       }
     }
   }
+  for (std::size_t k = 0; k < taskOfQuery_.size(); ++k) tasks[taskOfQuery_[k]].model->takeBackTexelModel(models_[k]);
   // Finish: the backend's texel part and the point masses; the others evaluate themselves.
   std::size_t q = 0;
   for (std::size_t i = 0; i < count; ++i) {

@@ -125,6 +125,14 @@ class MassModel {
   /// What the texel pass integrates: solid and shell density, the density map (kg/m^3 per texel,
   /// SurfaceTextures order; empty: the uniform solid) and the cones' apex (m, mesh frame).
   const TextureMassModel& texelModel() const { return distributed_; }
+  /// Lends texelModel() to a batch that needs many models side by side (a ComputeBackend's
+  /// span, core's MassModelsStep) without copying the map: `batch` receives the densities and the
+  /// reference point, and the map is swapped into it (`batch`'s own map, any, comes in its place).
+  /// Give it back with takeBackTexelModel(batch) before any other call on this model.
+  void lendTexelModel(TextureMassModel& batch);
+  /// Takes back the map lendTexelModel() swapped into `batch` (swapped out again: `batch` gets
+  /// back what it held). Nothing else changes: no new revision.
+  void takeBackTexelModel(TextureMassModel& batch);
   /// properties() with the texel pass run elsewhere: `texelPart` is TextureMassIntegrator::evaluate
   /// of texelModel() over the same texels and reference point (an equal integrator gives equal
   /// bits). Counted in texelPasses(); the point masses are combined as properties() does. Error

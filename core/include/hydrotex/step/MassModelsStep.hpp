@@ -25,7 +25,8 @@ namespace hydrotex {
 /// One body's mass model in the mass phase.
 struct MassModelTask {
   /// The model, already told this step's changes (point masses moved, advanceTo); null: the
-  /// body has nothing to recompute this step (its result is emptied).
+  /// body has nothing to recompute this step (its result is emptied). A model is named by one
+  /// task at most (its map is lent to the batch, MassModel::lendTexelModel).
   MassModel* model = nullptr;
   /// Where its texel pass runs: the body's id in the backend, registered with the model's
   /// textures and reference point (ComputeBackend::addBody); empty: inside the model, here.
@@ -39,7 +40,7 @@ struct MassModelsStepStatistics {
 };
 
 /// The mass phase, with the room its batch works in kept between steps (allocation-free once the
-/// number of bodies and the largest density map stopped growing). Not thread-safe.
+/// number of bodies stopped growing; the maps are lent by the models, not copied). Not thread-safe.
 class MassModelsStep {
  public:
   /// For every task with a model, sets results[i] to its mass properties (MassModel::properties,
@@ -57,7 +58,7 @@ class MassModelsStep {
 
  private:
   std::vector<BackendBodyId> ids_;          ///< the batch's bodies
-  std::vector<TextureMassModel> models_;    ///< ... their models (maps copied into kept capacity)
+  std::vector<TextureMassModel> models_;    ///< ... their models (maps lent by the models during the batch)
   std::vector<MassProperties> answers_;     ///< ... and the backend's answers
   std::vector<std::size_t> taskOfQuery_;    ///< task index per batch entry
   std::vector<std::optional<Error>> failures_;  ///< per batch entry: the backend's error, if any
