@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include <BulletSoftBody/btSoftBody.h>
+
 #include "ControllerBench.hpp"
 #include "hydrotex/mass/MassModel.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -329,7 +331,7 @@ int runBackend(int argc, char** argv) {
 /// density maps are replaced every step (two buffers a body, swapped: what an animation does), or
 /// `softBodies` soft balls (buoyancy and drag) in waves; controller ms a step over `steps` steps
 /// after a warm-up. The maps are filled outside the timed controller call.
-double changingRun(bool softCase, int bodies, int resolution, int steps, int threads) {
+double changingRun(bool softCase, int bodies, int resolution, int steps, int threads, double* checksum = nullptr) {
   Scene scene;
   scene.sourceName = "bench";
   scene.threads = threads;
@@ -396,12 +398,24 @@ double changingRun(bool softCase, int bodies, int resolution, int steps, int thr
   }
   world.world().removeAction(&timed);
   world.world().addAction(&world.controller());
+  if (checksum != nullptr) {  // the final states, to compare two builds' trajectories
+    double sum = 0.0;
+    for (const btRigidBody* body : world.bodies())
+      for (int k = 0; k < 3; ++k)
+        sum += double(body->getCenterOfMassPosition()[k]) + double(body->getLinearVelocity()[k]) +
+               double(body->getAngularVelocity()[k]);
+    for (const btSoftBody* soft : world.softBodies())
+      for (int n = 0; n < soft->m_nodes.size(); ++n)
+        for (int k = 0; k < 3; ++k) sum += double(soft->m_nodes[n].m_x[k]) + double(soft->m_nodes[n].m_v[k]);
+    *checksum = sum;
+  }
   return 1000.0 * timed.seconds / steps;
 }
 
 /// --changing [RUNS]: the controller's cost when something changes every step: 100 variable-mass
 /// boxes at 128^2 whose density maps are replaced every step (a texel mass pass each), and 16
-/// soft balls (1 k nodes, 64^2) with buoyancy and drag in waves; 1 and 2 threads, medians.
+/// soft balls (1 k nodes, 64^2) with buoyancy and drag in waves; 1 and 2 threads, medians, and a
+/// sum of the final states (positions, velocities, nodes) that two builds must share bit for bit.
 int runChanging(int runs) {
   std::printf("%-44s %7s %5s %7s %15s\n", "case", "bodies", "res", "threads", "controller ms");
   struct Case {
@@ -415,9 +429,11 @@ int runChanging(int runs) {
     double byThreads[2] = {0.0, 0.0};
     for (int t = 0; t < 2; ++t) {
       std::vector<double> times;
-      for (int r = 0; r < runs; ++r) times.push_back(changingRun(c.soft, c.bodies, c.resolution, c.steps, t + 1));
+      double checksum = 0.0;
+      for (int r = 0; r < runs; ++r)
+        times.push_back(changingRun(c.soft, c.bodies, c.resolution, c.steps, t + 1, r == 0 ? &checksum : nullptr));
       byThreads[t] = median(times);
-      std::printf("%-44s %7d %5d %7d %15.3f\n", c.name, c.bodies, c.resolution, t + 1, byThreads[t]);
+      std::printf("%-44s %7d %5d %7d %15.3f   states %.17g\n", c.name, c.bodies, c.resolution, t + 1, byThreads[t], checksum);
     }
     std::printf("%s: 2 threads against 1: %.2fx\n", c.name, byThreads[0] / byThreads[1]);
   }
