@@ -7,6 +7,9 @@
 // With --same-state [RUNS]: only the per-body cost of buoyancy and of drag in the same states
 // (sameStateCosts), which the full table also prints last.
 //
+// With --changing [RUNS]: the controller when something changes every step (variable-mass bodies
+// whose density maps are replaced every step; soft bodies), on 1 and 2 threads (runChanging).
+//
 // With --backend cpu|gpu (and --bodies N, --threads T, --runs R, --steps S, --drag 0|1,
 // --bandwidth-gbs B, --csv FILE): one table for that backend of the controller (issue 18: 1,000
 // bodies on the CPU and on the GL backend), with the bandwidth floor of the texels the backend
@@ -20,7 +23,10 @@
 #include <string>
 #include <vector>
 
+#include <BulletSoftBody/btSoftBody.h>
+
 #include "ControllerBench.hpp"
+#include "hydrotex/mass/MassModel.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
@@ -323,9 +329,124 @@ int runBackend(int argc, char** argv) {
   return 0;
 }
 
+/// One timed world of the --changing table: `bodies` variable-mass boxes at `resolution` whose
+/// density maps are replaced every step (two buffers a body, swapped: what an animation does), or
+/// `softBodies` soft balls (buoyancy and drag) in waves; controller ms a step over `steps` steps
+/// after a warm-up. The maps are filled outside the timed controller call.
+double changingRun(bool softCase, int bodies, int resolution, int steps, int threads, double* checksum = nullptr) {
+  Scene scene;
+  scene.sourceName = "bench";
+  scene.threads = threads;
+  if (softCase) {
+    scene.dt = 1.0 / 120.0;
+    scene.surface.type = SceneSurface::Type::Waves;
+    scene.surface.waves = {GerstnerWave{0.1, 6.0, Eigen::Vector2d(1.0, 0.2), 0.1, 0.3}};
+    auto ball = std::make_shared<const Mesh>(primitives::uvSphere(0.25, 32, 16));
+    for (int i = 0; i < bodies; ++i) {
+      SceneBody body;
+      body.name = "soft" + std::to_string(i);
+      body.mesh = ball;
+      body.soft = true;
+      body.mass = 20.0 + i;
+      body.position = Eigen::Vector3d(1.0 * (i % 8), 0.05, 1.0 * (i / 8));
+      body.resolution = resolution;
+      body.effects = EffectSet{Effect::Buoyancy, Effect::Drag};
+      body.softMaterial.shapeMatching = 0.5;
+      scene.softBodies.push_back(body);
+    }
+  } else {
+    scene.dt = 1.0 / 60.0;
+    auto box = std::make_shared<const Mesh>(primitives::box({1.0, 0.6, 0.8}));
+    for (int i = 0; i < bodies; ++i) {
+      SceneBody body;
+      body.name = "box" + std::to_string(i);
+      body.mesh = box;
+      body.density = 400.0 + 4.0 * i;
+      body.position = Eigen::Vector3d(2.0 * (i % 10), 0.3, 2.0 * (i / 10));
+      body.resolution = resolution;
+      body.effects = EffectSet{Effect::Buoyancy, Effect::Drag, Effect::VariableMass};
+      body.method = HydrostaticsMethod::Texture;
+      scene.bodies.push_back(body);
+    }
+  }
+  auto created = SceneWorld::create(scene);
+  if (!created) {
+    std::fprintf(stderr, "bench_controller: %s\n", created.error().message.c_str());
+    std::exit(1);
+  }
+  SceneWorld& world = **created;
+  std::vector<MassModel*> models;
+  for (btRigidBody* body : world.bodies())
+    if (MassModel* model = world.controller().massModel(body)) models.push_back(model);
+  std::vector<std::vector<float>> spare(models.size());
+  auto replaceMaps = [&](int step) {
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      spare[k].resize(models[k]->texelCount());
+      std::fill(spare[k].begin(), spare[k].end(), float(400.0 + 4.0 * double(k) + 0.5 * (step % 20)));
+      if (!models[k]->swapTexelDensity(spare[k])) std::exit(1);
+    }
+  };
+  TimedAction timed(world.controller());
+  world.world().removeAction(&world.controller());
+  world.world().addAction(&timed);
+  for (int i = 0; i < 20; ++i) {
+    replaceMaps(i);
+    world.step();
+  }
+  timed.seconds = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    replaceMaps(i);
+    world.step();
+  }
+  world.world().removeAction(&timed);
+  world.world().addAction(&world.controller());
+  if (checksum != nullptr) {  // the final states, to compare two builds' trajectories
+    double sum = 0.0;
+    for (const btRigidBody* body : world.bodies())
+      for (int k = 0; k < 3; ++k)
+        sum += double(body->getCenterOfMassPosition()[k]) + double(body->getLinearVelocity()[k]) +
+               double(body->getAngularVelocity()[k]);
+    for (const btSoftBody* soft : world.softBodies())
+      for (int n = 0; n < soft->m_nodes.size(); ++n)
+        for (int k = 0; k < 3; ++k) sum += double(soft->m_nodes[n].m_x[k]) + double(soft->m_nodes[n].m_v[k]);
+    *checksum = sum;
+  }
+  return 1000.0 * timed.seconds / steps;
+}
+
+/// --changing [RUNS]: the controller's cost when something changes every step: 100 variable-mass
+/// boxes at 128^2 whose density maps are replaced every step (a texel mass pass each), and 16
+/// soft balls (1 k nodes, 64^2) with buoyancy and drag in waves; 1 and 2 threads, medians, and a
+/// sum of the final states (positions, velocities, nodes) that two builds must share bit for bit.
+int runChanging(int runs) {
+  std::printf("%-44s %7s %5s %7s %15s\n", "case", "bodies", "res", "threads", "controller ms");
+  struct Case {
+    const char* name;
+    bool soft;
+    int bodies, resolution, steps;
+  };
+  const Case cases[] = {{"variable_mass (maps replaced every step)", false, 100, 128, 60},
+                        {"soft bodies (buoyancy+drag, waves)", true, 16, 64, 60}};
+  for (const Case& c : cases) {
+    double byThreads[2] = {0.0, 0.0};
+    for (int t = 0; t < 2; ++t) {
+      std::vector<double> times;
+      double checksum = 0.0;
+      for (int r = 0; r < runs; ++r)
+        times.push_back(changingRun(c.soft, c.bodies, c.resolution, c.steps, t + 1, r == 0 ? &checksum : nullptr));
+      byThreads[t] = median(times);
+      std::printf("%-44s %7d %5d %7d %15.3f   states %.17g\n", c.name, c.bodies, c.resolution, t + 1, byThreads[t], checksum);
+    }
+    std::printf("%s: 2 threads against 1: %.2fx\n", c.name, byThreads[0] / byThreads[1]);
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--backend") return runBackend(argc, argv);
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--changing") return runChanging(i + 1 < argc ? std::stoi(argv[i + 1]) : 3);
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--same-state") {  // only the same-state line: --same-state RUNS
       const SameStateCost same = sameStateCosts(100, 256, 120, i + 1 < argc ? std::stoi(argv[i + 1]) : 9,

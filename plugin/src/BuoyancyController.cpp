@@ -81,7 +81,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   // Every counter is a std::uint64_t: a new one that is not added here fails this check.
-  static_assert(sizeof(ControllerStatistics) == 16 * sizeof(std::uint64_t), "add the new counter below");
+  static_assert(sizeof(ControllerStatistics) == 18 * sizeof(std::uint64_t), "add the new counter below");
   into.steps += from.steps;
   into.hydrostaticsQueries += from.hydrostaticsQueries;
   into.dragPasses += from.dragPasses;
@@ -98,6 +98,8 @@ void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   into.wettingSteps += from.wettingSteps;
   into.backendBatches += from.backendBatches;
   into.autoMethodChoices += from.autoMethodChoices;
+  into.massBatches += from.massBatches;
+  into.massBatchBodies += from.massBatchBodies;
 }
 
 }  // namespace
@@ -334,7 +336,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                 : buildAutomaticLiquidGraph(geometry->mesh, geometry->textures, permeability, floodingSettings.nodeCount,
                                             floodingSettings.graph);
         if (!graph) return Error{"flooding: " + graph.error().message};
-        auto state = std::make_unique<FloodingState>(FloodingState{std::move(graph).value(), {}, {}, {}, {}});
+        auto state = std::make_unique<FloodingState>(FloodingState{std::move(graph).value(), {}, {}, {}, {}, {}, 0.0});
         // The permeable-texel pass on the controller's backend (the GL one on the GPU).
         Expected<std::unique_ptr<FloodingTexelPass>> texelPass = backend_->makeFloodingPass(state->graph);
         if (!texelPass) return Error{"flooding: " + texelPass.error().message};
@@ -350,6 +352,21 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
         }
         floating->flooding = std::move(state);
       }
+    }
+    // The texel mass pass of a model that changes (variable mass) runs on the backend, in the
+    // step's one mass batch (core's MassModelsStep): on the texture path's registration, or one
+    // for the mass alone (same textures and cone apex as the model's, so the CPU backend's answer
+    // has the model's own bits). A deforming body's model sums per triangle: no texel pass.
+    if (wantsMassModel && !deforming && settings.effects.has(Effect::VariableMass)) {
+      if (floating->backendBody) {
+        floating->massBackendBody = floating->backendBody;
+      } else {
+        Expected<BackendBodyId> id = backend_->addBody(geometry->bake, geometry->textures, floating->boundsCenter);
+        if (!id) return Error{"variable mass: " + id.error().message};
+        floating->massBackendBody = *id;
+        floating->backendTexels = geometry->textures.size();
+      }
+      floating->massBackendGeometry = floating->massModel->geometryRevision();
     }
     if (deforming) {
       auto state = std::make_unique<DeformationState>();
@@ -431,7 +448,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   if (!shared) {
     if (registered.dragPatches) bytes += registered.dragPatches->capacity() * sizeof(DragPatch);
     if (registered.dragPatchSet) bytes += registered.dragPatchSet->memoryBytes();
-    if (registered.backendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
+    if (registered.backendBody || registered.massBackendBody) bytes += registered.backendTexels * sizeof(TextureHydrostatics::Texel);
     if (registered.exactPrepared) bytes += registered.exactPrepared->memoryBytes();
   }
   registered.report.effectMemoryBytes = bytes;
@@ -508,6 +525,8 @@ bool BuoyancyController::removeBody(btRigidBody* body) {
     if (anchor != floating.backendBody || lastUser) backend_->releaseBody(*floating.backendBody);
     if (anchor && anchor != floating.backendBody && lastUser) backend_->releaseBody(*anchor);
   }
+  if (floating.massBackendBody && floating.massBackendBody != floating.backendBody)
+    backend_->releaseBody(*floating.massBackendBody);  // registered for the mass pass alone
   bodies_.erase(it);
   return true;
 }
@@ -590,7 +609,16 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   Clock::time_point start = Clock::now();
   tasks_.resize(bodies_.size());
   results_.resize(bodies_.size());
-  for (const auto& floating : bodies_) changeBody(*floating, dt);
+  massTasks_.resize(bodies_.size());
+  massResults_.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) changeBody(*bodies_[i], massTasks_[i], dt);
+  // Core's mass phase (MassModelsStep.hpp): every due texel mass pass in one backend batch, read
+  // back once; then each body's new mass to Bullet (serial: frames, shapes, AABBs).
+  const MassModelsStepStatistics massed = massStepper_.run(*backend_, massTasks_, massResults_);
+  statistics_.massBatches += massed.massBatches;
+  statistics_.massBatchBodies += massed.massBatchBodies;
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (massResults_[i]) applyMass(*bodies_[i], *massResults_[i]);
   threads_->forEach(bodies_.size(), [this](std::size_t i) { readBody(*bodies_[i], tasks_[i]); });
   timings_.read += secondsSince(start);
   start = Clock::now();
@@ -610,19 +638,31 @@ void BuoyancyController::updateAction(btCollisionWorld*, btScalar deltaTimeStep)
   threads_->forEach(bodies_.size(), [this](std::size_t i) { writeBody(*bodies_[i], results_[i]); });
   for (const auto& floating : bodies_) addCounters(statistics_, floating->stepCounters);
   timings_.write += secondsSince(start);
-  // Soft bodies stay serial: apply() reads a btSoftBody's nodes and writes their velocities,
-  // positions and activation in the same pass; it would have to be split into phases as above.
+  // Soft bodies on the threads: each apply() reads and writes only its own btSoftBody (nodes,
+  // activation) and its own scratch, and reads the shared liquid (const) and world info; the
+  // counters are added afterwards in registration order, so any thread count gives the same bits.
   start = Clock::now();
-  const SoftBodyLiquid softLiquid{liquid_.viscosity, toEigen(liquid_.current)};
-  for (SoftBodyBuoyancy& soft : softBodies_) {
-    if (!soft.apply(*liquid_.surface, time_, dt, softLiquid)) {
-      ++statistics_.failedQueries;
-      continue;
+  if (!softBodies_.empty()) {
+    softApplied_.assign(softBodies_.size(), 0);
+    const struct {
+      const LiquidSurface& surface;
+      SoftBodyLiquid liquid;
+      double time, dt;
+    } soft{*liquid_.surface, SoftBodyLiquid{liquid_.viscosity, toEigen(liquid_.current)}, time_, dt};
+    // Two pointers captured: std::function keeps them without allocating (test_controller.cpp).
+    threads_->forEach(softBodies_.size(), [this, &soft](std::size_t i) {
+      softApplied_[i] = softBodies_[i].apply(soft.surface, soft.time, soft.dt, soft.liquid).ok();
+    });
+    for (std::size_t i = 0; i < softBodies_.size(); ++i) {
+      if (!softApplied_[i]) {
+        ++statistics_.failedQueries;
+        continue;
+      }
+      const SoftBodyReport& done = softBodies_[i].report();  // the same counters as rigid bodies' effects
+      if (done.pressureApplied) ++statistics_.hydrostaticsQueries;
+      if (done.dragApplied) ++statistics_.dragPasses;
+      statistics_.dragPatchesVisited += done.dragTexelsVisited;
     }
-    const SoftBodyReport& done = soft.report();  // the same counters as rigid bodies' effects
-    if (done.pressureApplied) ++statistics_.hydrostaticsQueries;
-    if (done.dragApplied) ++statistics_.dragPasses;
-    statistics_.dragPatchesVisited += done.dragTexelsVisited;
   }
   timings_.softBodies += secondsSince(start);
 }
@@ -649,15 +689,17 @@ const SoftBodyReport* BuoyancyController::softBodyReport(const btSoftBody* body)
   return nullptr;
 }
 
-void BuoyancyController::changeBody(FloatingBody& floating, double dt) {
+void BuoyancyController::changeBody(FloatingBody& floating, MassModelTask& massTask, double dt) {
   const EffectSet effects = floating.settings.effects;
   floating.stepCounters = ControllerStatistics{};
+  massTask = MassModelTask{};
   // Variable mass and deformation first: the forces must see this step's body. They change
   // Bullet's body and shape (mass, frame, AABB) and run user callbacks: serial.
   if (floating.deformation) deform(floating);
-  if (floating.flooding) flood(floating, dt);  // follows the mass model itself
-  if (floating.massModel && !floating.flooding && (effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
-    followMassModel(floating);
+  if (floating.flooding) flood(floating, dt);  // its liquid into the mass model's point masses
+  if (floating.massModel &&
+      (floating.flooding || effects.has(Effect::VariableMass) || effects.has(Effect::Deformation))) {
+    prepareMass(floating, massTask);
   }
 }
 
@@ -812,21 +854,42 @@ const LiquidTexture* BuoyancyController::liquidTexture(const btRigidBody* body) 
   return &state.texture;
 }
 
-void BuoyancyController::followMassModel(FloatingBody& floating) {
+void BuoyancyController::prepareMass(FloatingBody& floating, MassModelTask& massTask) const {
   MassModel& model = *floating.massModel;
   model.advanceTo(time_);
   if (model.revision() == floating.appliedMassRevision) return;  // nothing changed: nothing recomputed
-  const std::uint64_t passesBefore = model.texelPasses();
-  Expected<MassProperties> properties = model.properties();
+  floating.massPassesBefore = model.texelPasses();
+  massTask.model = &model;
+  // The backend's copy of the texels fits while the user has not moved the model's geometry.
+  if (model.geometryRevision() == floating.massBackendGeometry) massTask.backendBody = floating.massBackendBody;
+}
+
+void BuoyancyController::applyMass(FloatingBody& floating, const Expected<MassProperties>& properties) {
+  MassModel& model = *floating.massModel;
   floating.appliedMassRevision = model.revision();
   ++statistics_.massUpdates;
-  statistics_.massTexelPasses += model.texelPasses() - passesBefore;
+  statistics_.massTexelPasses += model.texelPasses() - floating.massPassesBefore;
   // A model that cannot be handed to Bullet (no mass left, a flat inertia) keeps the last one.
   if (!properties || !applyMassProperties(floating, *properties)) {
     ++statistics_.failedQueries;
-    return;
+  } else {
+    floating.body->activate(true);
   }
-  floating.body->activate(true);
+  if (!floating.flooding) return;
+  FloodingState& state = *floating.flooding;
+  const double massBefore = state.massBefore;
+  const double massAfter = floating.report.massProperties.mass;
+  if (massAfter == massBefore || !(massAfter > 0.0)) return;
+  // setMassProperties kept the momentum m v (liquid entering at rest); core's law adds the
+  // momentum the liquid brings in and takes out (RigidBodyStep.hpp).
+  btRigidBody* body = floating.body;
+  const LiquidSurface& surface = *liquid_.surface;
+  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
+  const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
+  const Eigen::Vector3d liquidVelocity = surface.velocity(center, time_) + toEigen(liquid_.current);
+  const Eigen::Vector3d correction = floodingVelocityCorrection(v, liquidVelocity, massBefore, massAfter, surface.density(),
+                                                                state.stepped.inflow, state.stepped.outflow);
+  body->setLinearVelocity(toBullet(Eigen::Vector3d(v + correction)));
 }
 
 void BuoyancyController::flood(FloatingBody& floating, double dt) {
@@ -840,7 +903,8 @@ void BuoyancyController::flood(FloatingBody& floating, double dt) {
   query.timeStep = dt;
   query.gravity = -gravity.y();
   query.viscosity = liquid_.viscosity;
-  FloodingStepResult stepped;
+  FloodingStepResult& stepped = state.stepped;
+  stepped = FloodingStepResult{};
   if (query.gravity > 0.0 && query.viscosity > 0.0) {  // no weight or no viscosity: Darcy has nothing to say
     Expected<FloodingStepResult> result = state.graph.step(surface, query, state.texelPass.get());
     if (!result) {
@@ -869,18 +933,9 @@ void BuoyancyController::flood(FloatingBody& floating, double dt) {
       if (model.setPointMassPosition(state.pointMasses[i], centroids[i])) state.appliedCentroid[i] = centroids[i];
     }
   }
-  const double massBefore = floating.report.massProperties.mass;
-  followMassModel(floating);
-  const double massAfter = floating.report.massProperties.mass;
-  if (massAfter == massBefore || !(massAfter > 0.0)) return;
-  // setMassProperties kept the momentum m v (liquid entering at rest); core's law adds the
-  // momentum the liquid brings in and takes out (RigidBodyStep.hpp).
-  const Eigen::Vector3d v = toEigen(body->getLinearVelocity());
-  const Eigen::Vector3d center = toEigen(body->getCenterOfMassPosition());
-  const Eigen::Vector3d liquidVelocity = surface.velocity(center, time_) + toEigen(liquid_.current);
-  const Eigen::Vector3d correction =
-      floodingVelocityCorrection(v, liquidVelocity, massBefore, massAfter, density, stepped.inflow, stepped.outflow);
-  body->setLinearVelocity(toBullet(Eigen::Vector3d(v + correction)));
+  // The mass phase (applyMass) hands the new mass to Bullet and corrects the velocity for the
+  // momentum the liquid brought in and took out.
+  state.massBefore = floating.report.massProperties.mass;
 }
 
 const LiquidGraph* BuoyancyController::liquidGraph(const btRigidBody* body) const {

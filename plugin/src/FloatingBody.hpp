@@ -16,6 +16,7 @@
 #include "hydrotex/bake/SurfaceEvaluator.hpp"
 #include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/step/MassModelsStep.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 #include "hydrotex/wetting/Wetting.hpp"
@@ -50,6 +51,10 @@ struct FloodingState {
   std::vector<double> appliedMass;        ///< per node: kg last handed to the mass model
   std::vector<Eigen::Vector3d> appliedCentroid;  ///< per node: m, mesh frame, last handed to the mass model
   std::unique_ptr<FloodingTexelPass> texelPass;  ///< the backend's pass over the permeable texels (null: the graph's own)
+  /// This step's flow (inflow, outflow) and the mass before it, kept from the read phase's graph
+  /// step to the mass phase's velocity correction (floodingVelocityCorrection).
+  FloodingStepResult stepped;
+  double massBefore = 0.0;                ///< kg
 };
 
 /// What bodies of one mesh and the same bake and drag settings share, read-only (MuJoCo's
@@ -97,6 +102,15 @@ struct FloatingBody {
   ControllerStatistics stepCounters;
   std::optional<MassModel> massModel;           ///< only with a shell, map, point masses, variable mass or deformation
   std::uint64_t appliedMassRevision = 0;        ///< massModel revision last handed to Bullet
+  /// Where the mass model's texel pass runs (variable mass, not deforming): its id in the
+  /// controller's backend, registered with the model's textures and reference point (backendBody
+  /// itself for a texture-path body; a registration for the mass alone otherwise), or empty:
+  /// inside the model (core's MassModelsStep).
+  std::optional<BackendBodyId> massBackendBody;
+  /// massModel->geometryRevision() when massBackendBody was registered: a user's setGeometry
+  /// afterwards moves the model's texels away from the backend's, and the model evaluates itself.
+  std::uint64_t massBackendGeometry = 0;
+  std::uint64_t massPassesBefore = 0;           ///< massModel->texelPasses() before this step's mass phase
   std::unique_ptr<DeformationState> deformation; ///< only with Effect::Deformation
   std::unique_ptr<FloodingState> flooding;      ///< only with Effect::Flooding
   std::unique_ptr<WettingState> wetting;        ///< only with Effect::Wetting

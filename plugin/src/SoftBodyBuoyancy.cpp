@@ -4,8 +4,9 @@
 // texel's pieces carry -p fraction A_face each, and a piece's force acts at its centroid, which is
 // the barycentric combination (1 - b1 - b2, b1, b2) of its face's nodes: giving the force to the
 // nodes with these weights keeps the total force and its moment about any point (the moment of
-// sum w_k f about x is (sum w_k x_k - x) x f, the centroid's). Drag (Effect::Drag) is the rigid
-// bodies' law (TexelDrag.hpp) per texel, handed to the nodes the same way.
+// sum w_k f about x is (sum w_k x_k - x) x f, the centroid's). Drag (Effect::Drag) is core's
+// SoftBodyDrag (the rigid bodies' law per texel, handed to the nodes the same way); this file only
+// reads Bullet's nodes into core's inputs and adds the results to them.
 #include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
 
 #include <Eigen/Cholesky>
@@ -16,7 +17,7 @@
 #include <string>
 
 #include "hydrotex/bake/BodyGeometry.hpp"
-#include "hydrotex/step/RigidBodyStep.hpp"
+#include "hydrotex/step/SoftBodyDrag.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/hydrostatics/TexelPressure.hpp"
 
@@ -81,9 +82,8 @@ Expected<SoftBodyBuoyancy> SoftBodyBuoyancy::create(btSoftBody* body, const Soft
   out.texelWetFraction_.assign(out.textures_.size(), 0.0f);
   out.nodeForce_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
   if (settings.effects.has(Effect::Drag)) {
-    out.nodeDrag_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
-    out.nodeRelative_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
-    out.deformationChange_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
+    out.nodeVelocity_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
+    out.velocityChange_.assign(std::size_t(nodeCount), Eigen::Vector3d::Zero());
     out.nodeMass_.assign(std::size_t(nodeCount), 0.0);
   }
   out.faceAreaVector_.assign(out.mesh_.triangles.size(), Eigen::Vector3d::Zero());
@@ -147,157 +147,46 @@ Status SoftBodyBuoyancy::apply(const LiquidSurface& surface, double time, double
 void SoftBodyBuoyancy::applyDrag(const LiquidSurface& surface, double time, double dt, const SoftBodyLiquid& liquid,
                                  SoftBodyReport& report) {
   report.dragApplied = true;
-  const double density = surface.density();
-  const bool uniform = surface.hasFreeSurface();
-  const bool still = surface.flatHeight().has_value() && liquid.current.isZero();
-  const std::size_t nodeCount = mesh_.positions.size();
-  // Node velocities relative to the liquid as they were at the end of the last step: Bullet's
-  // predictMotion has already added g dt, which drag must not see (a ball at rest would read
-  // dt g downwards and be held up by its own drag; the rigid bodies avoid it the same way).
+  // Node velocities as they were at the end of the last step: Bullet's predictMotion has already
+  // added g dt, which drag must not see (a ball at rest would read dt g downwards and be held up
+  // by its own drag; the rigid bodies avoid it the same way). Pinned nodes have no mass.
   const Eigen::Vector3d gravityStep = dt * toEigen(body_->getWorldInfo()->m_gravity);
-  double mass = 0.0;
-  Eigen::Vector3d center = Eigen::Vector3d::Zero(), momentum = Eigen::Vector3d::Zero();
+  const std::size_t nodeCount = mesh_.positions.size();
   for (std::size_t n = 0; n < nodeCount; ++n) {
     const btSoftBody::Node& node = body_->m_nodes[int(n)];
-    const Eigen::Vector3d& x = mesh_.positions[n];
-    const Eigen::Vector3d liquidVelocity = still ? liquid.current : Eigen::Vector3d(surface.velocity(x, time) + liquid.current);
     const bool movable = node.m_im > 0;
-    nodeRelative_[n] = toEigen(node.m_v) - (movable ? gravityStep : Eigen::Vector3d::Zero()) - liquidVelocity;
+    nodeVelocity_[n] = toEigen(node.m_v) - (movable ? gravityStep : Eigen::Vector3d::Zero());
     nodeMass_[n] = movable ? 1.0 / double(node.m_im) : 0.0;
-    mass += nodeMass_[n];
-    center += nodeMass_[n] * x;
-    momentum += nodeMass_[n] * nodeRelative_[n];
   }
-  if (!(mass > 0.0)) return;
-  center /= mass;
-  const Eigen::Vector3d meanVelocity = momentum / mass;
-
-  // One skin friction coefficient per body and step from its Reynolds number, as for rigid bodies
-  // (the ITTC line is a whole-body correlation); the reference length is the nodes' largest extent.
-  double friction = 0.0;
-  if (settings_.drag.skinFrictionScale > 0.0 && liquid.viscosity > 0.0) {  // the extent only when friction needs it
-    Eigen::Vector3d lower = mesh_.positions.front(), upper = lower;
-    for (const Eigen::Vector3d& p : mesh_.positions) {
-      lower = lower.cwiseMin(p);
-      upper = upper.cwiseMax(p);
-    }
-    friction = bodySkinFriction(density, meanVelocity.norm(), (upper - lower).maxCoeff(), liquid.viscosity, settings_.drag);
-  }
-
-  // Texel by texel: the law on the texel's relative velocity (its pieces' barycentric node
-  // velocities, weighted by area), times its wet fraction; the force back to the nodes as the
-  // pressure goes.
-  for (Eigen::Vector3d& f : nodeDrag_) f.setZero();
-  Eigen::Vector3d totalForce = Eigen::Vector3d::Zero(), totalTorque = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < textures_.size(); ++i) {
-    const double wet = double(texelWetFraction_[i]);
-    if (!(wet > 0.0)) continue;
-    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-    double weightSum = 0.0;
-    for (std::uint32_t k = bake_.pieceStart[i]; k < bake_.pieceStart[i + 1]; ++k) {
-      const TexelPiece& piece = bake_.pieces[k];
-      const Eigen::Vector3i& tri = mesh_.triangles[piece.triangle];
-      const double w = double(piece.areaFraction) * faceAreaVector_[piece.triangle].norm();
-      const double b1 = piece.centroidBary1, b2 = piece.centroidBary2;
-      velocity += w * ((1.0 - b1 - b2) * nodeRelative_[std::size_t(tri[0])] + b1 * nodeRelative_[std::size_t(tri[1])] +
-                       b2 * nodeRelative_[std::size_t(tri[2])]);
-      weightSum += w;
-    }
-    if (!(weightSum > 0.0)) continue;
-    velocity /= weightSum;
-    const Eigen::Vector3d x = textures_.position[i].cast<double>();
-    const Eigen::Vector3d force =
-        wet * texelDragForceWithFriction(textures_.areaVector[i].cast<double>(), double(textures_.area[i]), velocity,
-                                         uniform ? density : surface.densityAt(x), friction, settings_.drag);
-    if (!force.allFinite()) continue;
-    ++report.dragTexelsVisited;
-    totalForce += force;
-    totalTorque += (x - center).cross(force);
-    for (std::uint32_t k = bake_.pieceStart[i]; k < bake_.pieceStart[i + 1]; ++k) {
-      const TexelPiece& piece = bake_.pieces[k];
-      const Eigen::Vector3i& tri = mesh_.triangles[piece.triangle];
-      const Eigen::Vector3d share = (double(piece.areaFraction) * faceAreaVector_[piece.triangle].norm() / weightSum) * force;
-      const double b1 = piece.centroidBary1, b2 = piece.centroidBary2;
-      nodeDrag_[std::size_t(tri[0])] += (1.0 - b1 - b2) * share;
-      nodeDrag_[std::size_t(tri[1])] += b1 * share;
-      nodeDrag_[std::size_t(tri[2])] += b2 * share;
-    }
-  }
-  report.dragForce = btVector3(btScalar(totalForce.x()), btScalar(totalForce.y()), btScalar(totalForce.z()));
-  report.dragTorque = btVector3(btScalar(totalTorque.x()), btScalar(totalTorque.y()), btScalar(totalTorque.z()));
-
-  // The nodes' motion splits, orthogonally in the mass metric, into the motion as a rigid body
-  // (V, omega about the centre of mass, omega = I^-1 L) and a deformation w_n with no momentum
-  // and no angular momentum; kinetic energy is the sum of the two parts'. The drag's total force
-  // and torque change the rigid part, the rest of the node forces the deformation:
-  // - rigid part: the rigid bodies' step (BuoyancyController) on (V, omega), the component along
-  //   the motion taken implicitly (secant damping 1 / (1 + lambda)), so it slows the motion and
-  //   never reverses it at any dt; what remains may turn the motion but not lengthen it;
-  // - deformation: the same per node on w_n, then projected back onto motions with no momentum.
-  // Neither part's energy can grow, so drag never adds kinetic energy (relative to the liquid),
-  // and a body moving as a whole gets no deformation from its own drag, whatever dt.
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d angularMomentum = Eigen::Vector3d::Zero();
+  // Core's law (SoftBodyDrag.hpp): the texels' drag, taken so that it never adds kinetic energy.
+  SoftBodyDragInput input;
+  input.mesh = &mesh_;
+  input.bake = &bake_;
+  input.textures = &textures_;
+  input.wetFraction = texelWetFraction_;
+  input.triangleAreaVectors = faceAreaVector_;
+  input.vertexVelocity = nodeVelocity_;
+  input.vertexMass = nodeMass_;
+  input.surface = &surface;
+  input.current = liquid.current;
+  input.viscosity = liquid.viscosity;
+  input.time = time;
+  input.dt = dt;
+  input.coefficients = settings_.drag;
+  const SoftBodyDragResult drag = drag_.step(input, velocityChange_);
+  report.dragForce = btVector3(btScalar(drag.force.x()), btScalar(drag.force.y()), btScalar(drag.force.z()));
+  report.dragTorque = btVector3(btScalar(drag.torque.x()), btScalar(drag.torque.y()), btScalar(drag.torque.z()));
+  report.dragPower = drag.power;
+  report.dragTexelsVisited = drag.texelsVisited;
+  // As a semi-implicit Euler step: the velocity change, and the position moved by it times dt.
   for (std::size_t n = 0; n < nodeCount; ++n) {
-    const Eigen::Vector3d r = mesh_.positions[n] - center;
-    inertia += nodeMass_[n] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-    angularMomentum += nodeMass_[n] * r.cross(nodeRelative_[n]);
-  }
-  const Eigen::LDLT<Eigen::Matrix3d> inertiaSolve(inertia);
-  const bool rotates = inertiaSolve.info() == Eigen::Success && inertiaSolve.isPositive() &&
-                       inertia.determinant() > 1e-12 * std::pow(inertia.trace(), 3);
-  auto inverseInertia = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d {
-    return rotates ? Eigen::Vector3d(inertiaSolve.solve(v)) : Eigen::Vector3d::Zero();
-  };
-  const Eigen::Vector3d omega = inverseInertia(angularMomentum);
-  Eigen::Vector3d deltaV = dt / mass * totalForce, deltaOmega = dt * inverseInertia(totalTorque);
-  {
-    const double energy2 = mass * meanVelocity.squaredNorm() + omega.dot(inertia * omega);  // 2 x kinetic energy
-    const double along = energy2 > 0.0 ? (mass * meanVelocity.dot(deltaV) + omega.dot(inertia * deltaOmega)) / energy2 : 0.0;
-    const double lambda = std::max(0.0, -along);
-    Eigen::Vector3d nextV = meanVelocity + (deltaV - along * meanVelocity) + along / (1.0 + lambda) * meanVelocity;
-    Eigen::Vector3d nextOmega = omega + (deltaOmega - along * omega) + along / (1.0 + lambda) * omega;
-    const double nextEnergy2 = mass * nextV.squaredNorm() + nextOmega.dot(inertia * nextOmega);
-    if (nextEnergy2 > energy2) {
-      const double shrink = energy2 > 0.0 ? std::sqrt(energy2 / nextEnergy2) : 0.0;
-      nextV *= shrink;
-      nextOmega *= shrink;
-    }
-    deltaV = nextV - meanVelocity;
-    deltaOmega = nextOmega - omega;
-  }
-  const Eigen::Vector3d forcePerMass = totalForce / mass, angularAcceleration = inverseInertia(totalTorque);
-  Eigen::Vector3d strayMomentum = Eigen::Vector3d::Zero(), strayAngularMomentum = Eigen::Vector3d::Zero();
-  for (std::size_t n = 0; n < nodeCount; ++n) {
-    deformationChange_[n].setZero();
-    if (!(nodeMass_[n] > 0.0)) continue;
-    const Eigen::Vector3d r = mesh_.positions[n] - center;
-    const Eigen::Vector3d w = nodeRelative_[n] - meanVelocity - omega.cross(r);
-    const double ww = w.squaredNorm();
-    if (!(ww > 0.0)) continue;  // no deformation to damp: any push would add energy
-    const Eigen::Vector3d delta = dt / nodeMass_[n] * (nodeDrag_[n] - nodeMass_[n] * (forcePerMass + angularAcceleration.cross(r)));
-    const double along = delta.dot(w) / ww;
-    const double lambda = std::max(0.0, -along);
-    Eigen::Vector3d next = w + (delta - along * w) + along / (1.0 + lambda) * w;
-    if (const double nextSquared = next.squaredNorm(); nextSquared > ww) next *= std::sqrt(ww / nextSquared);
-    deformationChange_[n] = next - w;
-    strayMomentum += nodeMass_[n] * deformationChange_[n];
-    strayAngularMomentum += nodeMass_[n] * r.cross(deformationChange_[n]);
-  }
-  const Eigen::Vector3d strayV = strayMomentum / mass, strayOmega = inverseInertia(strayAngularMomentum);
-  double energyChange = 0.0;  // J
-  for (std::size_t n = 0; n < nodeCount; ++n) {
-    if (!(nodeMass_[n] > 0.0)) continue;
-    const Eigen::Vector3d r = mesh_.positions[n] - center;
-    const Eigen::Vector3d change = deltaV + deltaOmega.cross(r) + deformationChange_[n] - strayV - strayOmega.cross(r);
-    if (!change.allFinite()) continue;
-    energyChange += 0.5 * nodeMass_[n] * ((nodeRelative_[n] + change).squaredNorm() - nodeRelative_[n].squaredNorm());
+    const Eigen::Vector3d& change = velocityChange_[n];
+    if (!(nodeMass_[n] > 0.0) || !change.allFinite()) continue;
     const btVector3 applied(btScalar(change.x()), btScalar(change.y()), btScalar(change.z()));
     btSoftBody::Node& node = body_->m_nodes[int(n)];
     node.m_v += applied;
     node.m_x += applied * btScalar(dt);
   }
-  report.dragPower = energyChange / dt;
 }
 
 }  // namespace hydrotex::bullet

@@ -68,6 +68,49 @@ TEST_CASE("an effect a body does not list costs nothing", "[controller][effects]
   CHECK(stats.dragPatchesVisited > 0);
   CHECK(stats.addedMassUpdates == 0);             // nobody listed added_mass
   CHECK(stats.backendBatches == steps);           // both texture bodies in one batch, read back once a step
+  CHECK(stats.massBatches == 0);                  // nobody listed variable_mass
+  CHECK(stats.massBatchBodies == 0);
+}
+
+TEST_CASE("density maps replaced every step: one mass batch a step, no allocation", "[controller][mass]") {
+  TestWorld world;
+  const Mesh box = primitives::box({1, 0.5, 1});
+  std::vector<btRigidBody*> bodies;
+  for (int k = 0; k < 3; ++k)
+    bodies.push_back(world.add(box, solid(500, {Effect::Buoyancy, Effect::VariableMass}, HydrostaticsMethod::Texture, 64),
+                               btVector3(3.0f * float(k), 0, 0)));
+  std::vector<MassModel*> models;
+  for (btRigidBody* body : bodies) {
+    REQUIRE(body != nullptr);
+    models.push_back(world.controller().massModel(body));
+    REQUIRE(models.back() != nullptr);
+  }
+  // Two buffers a body, swapped in turn (MassModel::swapTexelDensity allocates nothing).
+  std::vector<std::vector<float>> spare(models.size());
+  auto replaceMaps = [&](int step) {
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      if (spare[k].size() != models[k]->texelCount()) spare[k].assign(models[k]->texelCount(), 0.0f);
+      std::fill(spare[k].begin(), spare[k].end(), float(400 + 5 * step + int(k)));
+      REQUIRE(models[k]->swapTexelDensity(spare[k]).ok());
+    }
+  };
+  for (int i = 0; i < 10; ++i) {  // settle containers (both buffers of each body grown)
+    replaceMaps(i);
+    world.step(1.0 / 60.0);
+  }
+  world.controller().resetStatistics();
+  const long long before = gAllocations.load();
+  const int steps = 20;
+  for (int i = 0; i < steps; ++i) {
+    replaceMaps(i);
+    world.controller().updateAction(&world.world(), btScalar(1.0 / 60.0));
+  }
+  CHECK(gAllocations.load() - before == 0);
+  const ControllerStatistics& stats = world.controller().statistics();
+  CHECK(stats.massBatches == steps);               // every body's pass in one batch, read back once a step
+  CHECK(stats.massBatchBodies == 3 * steps);
+  CHECK(stats.massTexelPasses == 3 * steps);
+  CHECK(stats.backendBatches == steps);            // the hydrostatics: their own batch
 }
 
 TEST_CASE("settings say what is wrong", "[controller][settings]") {

@@ -144,6 +144,62 @@ TEST_CASE("variable mass recomputes nothing when nothing changed", "[variable-ma
   CHECK(world.controller().report(box)->massProperties.mass == Approx(300.0 + 20.0).epsilon(1e-6));
 }
 
+TEST_CASE("texel mass passes: one backend batch per step when a map changed, none when none did", "[variable-mass][cost][backend]") {
+  TestWorld world;
+  // Two variable-mass boxes, one on the texture path (its hydrostatics' registration serves the
+  // mass pass) and one on the exact path (registered with the backend for its mass pass alone),
+  // and a plain box that lists no variable mass.
+  FloatingBodySettings texture = solid(500.0, {Effect::Buoyancy, Effect::VariableMass}, HydrostaticsMethod::Texture);
+  FloatingBodySettings exact = solid(500.0, {Effect::Buoyancy, Effect::VariableMass}, HydrostaticsMethod::Polyhedral);
+  texture.pointMasses = exact.pointMasses = {PointMass{20.0, Eigen::Vector3d(0.1, 0.2, 0.0), {}}};
+  btRigidBody* a = world.add(primitives::box({1.0, 1.0, 1.0}), texture, btVector3(0, 0, 0));
+  btRigidBody* b = world.add(primitives::box({1.0, 1.0, 1.0}), exact, btVector3(3, 0, 0));
+  btRigidBody* plain = world.add(primitives::box({1.0, 1.0, 1.0}), solid(500.0, {Effect::Buoyancy}), btVector3(6, 0, 0));
+  REQUIRE(a != nullptr);
+  REQUIRE(b != nullptr);
+  REQUIRE(plain != nullptr);
+  MassModel* modelA = world.controller().massModel(a);
+  MassModel* modelB = world.controller().massModel(b);
+  REQUIRE(modelA != nullptr);
+  REQUIRE(modelB != nullptr);
+  const ControllerStatistics& statistics = world.controller().statistics();
+  // Nothing changed: no batch, no pass.
+  for (int i = 0; i < 10; ++i) world.step(1.0 / 60.0);
+  CHECK(statistics.massBatches == 0);
+  CHECK(statistics.massBatchBodies == 0);
+  CHECK(statistics.massTexelPasses == 0);
+  // Both maps replaced every step (two buffers swapped, as an animation would): one batch a step
+  // with both bodies in it, read back once.
+  std::vector<float> spareA, spareB;  // swapTexelDensity hands back the previous map (none at first)
+  double density = 0.0;
+  for (int i = 0; i < 10; ++i) {
+    density = 300.0 + 10.0 * i;
+    spareA.assign(modelA->texelCount(), float(density));
+    spareB.assign(modelB->texelCount(), float(density));
+    REQUIRE(modelA->swapTexelDensity(spareA).ok());
+    REQUIRE(modelB->swapTexelDensity(spareB).ok());
+    world.step(1.0 / 60.0);
+  }
+  CHECK(statistics.massBatches == 10);
+  CHECK(statistics.massBatchBodies == 20);
+  CHECK(statistics.massTexelPasses == 20);
+  CHECK(statistics.massUpdates == 20);
+  // A unit box of the map's uniform density plus the point mass. The cone volumes sum to the box's
+  // volume to float rounding: 1e-6 on the CPU backend (TextureMassIntegrator, double across blocks
+  // of float sums); the GL backend's partial sums round in float per workgroup, and its parity
+  // with the CPU is 1e-5 (tests/gpu/test_backend_parity.cpp): 2e-5 bounds both.
+  for (const btRigidBody* body : {a, b})
+    CHECK(world.controller().report(body)->massProperties.mass == Approx(density + 20.0).epsilon(2e-5));
+  // Only one map changes: a batch of one body.
+  for (int i = 0; i < 5; ++i) {
+    spareA.assign(modelA->texelCount(), float(250.0 + i));
+    REQUIRE(modelA->swapTexelDensity(spareA).ok());
+    world.step(1.0 / 60.0);
+  }
+  CHECK(statistics.massBatches == 15);
+  CHECK(statistics.massBatchBodies == 25);
+}
+
 TEST_CASE("variable mass keeps the shape in place and the momentum when the centre of mass moves", "[variable-mass]") {
   TestWorld world(std::make_shared<UniformMedium>(1.225, std::numeric_limits<double>::infinity(), 0.0), 1.8e-5);
   world.world().setGravity(btVector3(0, 0, 0));

@@ -126,11 +126,7 @@ class CpuBackend final : public ComputeBackend {
         failures_[i] = result.error();
       }
     };
-    if (parallelFor_ && queries.size() > 1) {
-      parallelFor_(queries.size(), answer);
-    } else {
-      for (std::size_t i = 0; i < queries.size(); ++i) answer(i);
-    }
+    forEachBody(queries.size(), answer);
     for (std::size_t i = 0; i < queries.size(); ++i)
       if (failures_[i]) return Error{"cpu backend: body " + std::to_string(queries[i].body) + ": " + failures_[i]->message};
     std::copy(answers_.begin(), answers_.end(), results.begin());
@@ -145,11 +141,27 @@ class CpuBackend final : public ComputeBackend {
                    " models and room for " + std::to_string(results.size()) + " results"};
     for (BackendBodyId id : ids)
       if (id >= bodies_.size() || !bodies_[id]) return Error{"cpu backend: unknown body " + std::to_string(id)};
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-      Expected<MassProperties> result = bodies_[ids[i]]->integrator.evaluate(models[i]);
-      if (!result) return Error{"cpu backend: body " + std::to_string(ids[i]) + ": " + result.error().message};
-      results[i] = *result;
-    }
+    // Each body reads only its own integrator and writes only its own answer: in parallel when a
+    // ParallelFor was given (the same bits for any thread count). Nothing is written to `results`
+    // unless all succeed.
+    massAnswers_.resize(ids.size());
+    failures_.assign(ids.size(), std::nullopt);
+    const struct {
+      std::span<const BackendBodyId> ids;
+      std::span<const TextureMassModel> models;
+    } batch{ids, models};
+    auto answer = [this, &batch](std::size_t i) {
+      Expected<MassProperties> result = bodies_[batch.ids[i]]->integrator.evaluate(batch.models[i]);
+      if (result) {
+        massAnswers_[i] = *result;
+      } else {
+        failures_[i] = result.error();
+      }
+    };
+    forEachBody(ids.size(), answer);
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (failures_[i]) return Error{"cpu backend: body " + std::to_string(ids[i]) + ": " + failures_[i]->message};
+    std::copy(massAnswers_.begin(), massAnswers_.end(), results.begin());
     return Ok{};
   }
 
@@ -160,6 +172,17 @@ class CpuBackend final : public ComputeBackend {
     TextureMassIntegrator integrator;
     Eigen::Vector3d referencePoint;
   };
+
+  // Calls answer(i) for every i in [0, count): through parallelFor_ when one was given and there
+  // is more than one, else in order. Each answer reads only its own body and writes only its own
+  // slot, so the results are the same for every thread count.
+  void forEachBody(std::size_t count, const std::function<void(std::size_t)>& answer) {
+    if (parallelFor_ && count > 1) {
+      parallelFor_(count, answer);
+      return;
+    }
+    for (std::size_t i = 0; i < count; ++i) answer(i);
+  }
 
   // Same batch rules as every backend: known bodies, each at most once.
   Status checkBatch(std::span<const BackendHydrostaticsQuery> queries, std::size_t room) {
@@ -178,6 +201,7 @@ class CpuBackend final : public ComputeBackend {
   ParallelFor parallelFor_;  // empty: one body after the other
   std::vector<std::shared_ptr<Body>> bodies_;  // null once released; shared by instances
   std::vector<HydrostaticsResult> answers_;  // per query of the batch in progress
+  std::vector<MassProperties> massAnswers_;  // per body of the mass batch in progress
   std::vector<std::optional<Error>> failures_;  // ... and its error, if any
   std::vector<std::uint64_t> seen_;  // batch stamp per body
   std::uint64_t batch_ = 0;

@@ -134,6 +134,7 @@ Status MassModel::setGeometry(const SurfaceTextures& textures) {
     return Error{"deformed surface has " + std::to_string(textures.size()) + " texels, the density map " +
                  std::to_string(integrator_.size())};
   integrator_.update(textures);  // in place: a deforming body allocates nothing per step
+  ++geometryRevision_;
   conserveMasses();
   distributedRevision_ = ++revision_;
   return Ok{};
@@ -194,6 +195,30 @@ Expected<MassProperties> MassModel::properties() {
     distributedProperties_ = *part;
     evaluatedDistributed_ = distributedRevision_;
   }
+  return combine();
+}
+
+void MassModel::lendTexelModel(TextureMassModel& batch) {
+  batch.solidDensity = distributed_.solidDensity;
+  batch.shellDensity = distributed_.shellDensity;
+  batch.referencePoint = distributed_.referencePoint;
+  batch.texelDensity.swap(distributed_.texelDensity);
+}
+
+void MassModel::takeBackTexelModel(TextureMassModel& batch) { batch.texelDensity.swap(distributed_.texelDensity); }
+
+Expected<MassProperties> MassModel::finish(const MassProperties& texelPart) {
+  if (!needsTexelPass()) return Error{"mass model: no texel pass is due (finish without needsTexelPass)"};
+  if (!std::isfinite(texelPart.mass) || !std::isfinite(texelPart.volume) || !texelPart.centerOfMass.allFinite() ||
+      !texelPart.inertia.allFinite())
+    return Error{"mass model: the texel pass's mass properties are not finite"};
+  ++texelPasses_;
+  distributedProperties_ = texelPart;
+  evaluatedDistributed_ = distributedRevision_;
+  return combine();
+}
+
+Expected<MassProperties> MassModel::combine() {
   ++combinations_;
   const MassProperties& part = distributedProperties_;
   double mass = part.mass;

@@ -115,10 +115,35 @@ class MassModel {
   /// Error when the total mass is not positive.
   Expected<MassProperties> properties();
 
+  /// True when the next properties() would run a texel pass (TextureMassIntegrator::evaluate of
+  /// texelModel() over this model's texels): the solid, shell, map or geometry changed since the
+  /// last evaluation, and the model does not follow triangles (whose per-triangle sums are no
+  /// pass over texels: properties() evaluates them, O(1) after setGeometry(Mesh)). A caller that
+  /// batches the passes of many bodies (a ComputeBackend holding the same texels, core's
+  /// MassModelsStep) runs it elsewhere and hands the answer to finish().
+  bool needsTexelPass() const { return !triangles_ && evaluatedDistributed_ != distributedRevision_; }
+  /// What the texel pass integrates: solid and shell density, the density map (kg/m^3 per texel,
+  /// SurfaceTextures order; empty: the uniform solid) and the cones' apex (m, mesh frame).
+  const TextureMassModel& texelModel() const { return distributed_; }
+  /// Lends texelModel() to a batch that needs many models side by side (a ComputeBackend's
+  /// span, core's MassModelsStep) without copying the map: `batch` receives the densities and the
+  /// reference point, and the map is swapped into it (`batch`'s own map, any, comes in its place).
+  /// Give it back with takeBackTexelModel(batch) before any other call on this model.
+  void lendTexelModel(TextureMassModel& batch);
+  /// Takes back the map lendTexelModel() swapped into `batch` (swapped out again: `batch` gets
+  /// back what it held). Nothing else changes: no new revision.
+  void takeBackTexelModel(TextureMassModel& batch);
+  /// properties() with the texel pass run elsewhere: `texelPart` is TextureMassIntegrator::evaluate
+  /// of texelModel() over the same texels and reference point (an equal integrator gives equal
+  /// bits). Counted in texelPasses(); the point masses are combined as properties() does. Error
+  /// (nothing stored) when no texel pass is due (needsTexelPass() false), `texelPart` is not
+  /// finite, or the total mass is not positive.
+  Expected<MassProperties> finish(const MassProperties& texelPart);
+
   /// Increases by one with every change that alters the mass properties.
   std::uint64_t revision() const { return revision_; }
-  /// Texel passes run so far (the expensive part): the texel path's evaluation, or, following
-  /// triangles, a new density map's pass over the texel pieces.
+  /// Texel passes run so far (the expensive part): the texel path's evaluation (here, or handed
+  /// to finish()), or, following triangles, a new density map's pass over the texel pieces.
   std::uint64_t texelPasses() const { return texelPasses_; }
   /// Evaluations of the solid, shell and map from the per-triangle sums (following triangles;
   /// O(1) after setGeometry(Mesh)'s O(triangles) pass).
@@ -139,6 +164,10 @@ class MassModel {
   double volume() const { return triangles_ ? triangles_->volume() : integrator_.volume(); }
   /// Surface area (m^2) of the current geometry that carries the shell (lids over openings excluded).
   double area() const { return triangles_ ? triangles_->area() : integrator_.area(); }
+  /// Increases with every setGeometry(textures) (the texels the texel pass integrates moved): a
+  /// caller that registered this model's texels elsewhere (a ComputeBackend) knows when its copy
+  /// no longer fits.
+  std::uint64_t geometryRevision() const { return geometryRevision_; }
   /// Number of covered texels (the size a density map must have).
   std::size_t texelCount() const { return triangles_ ? triangles_->texelCount() : integrator_.size(); }
 
@@ -147,6 +176,8 @@ class MassModel {
   Expected<MassProperties> evaluateTriangles();
   /// The geometry changed: the densities of the parts that keep their mass follow it.
   void conserveMasses();
+  /// The solid, shell and map part (distributedProperties_) and the point masses together.
+  Expected<MassProperties> combine();
 
   TextureMassIntegrator integrator_;
   std::optional<TriangleMassIntegrator> triangles_;  // set by followTriangles
@@ -167,6 +198,7 @@ class MassModel {
   std::uint64_t texelPasses_ = 0;
   std::uint64_t trianglePasses_ = 0;
   std::uint64_t combinations_ = 0;
+  std::uint64_t geometryRevision_ = 0;
 };
 
 }  // namespace hydrotex

@@ -21,6 +21,7 @@
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mass/MassModel.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
+#include "hydrotex/step/MassModelsStep.hpp"
 #include "hydrotex/step/RigidBodiesStep.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 #include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
@@ -62,9 +63,11 @@ struct ControllerSettings {
   /// one batch (the only per-step door to texel passes): null (the default) makes the controller
   /// its own CPU backend on its threads. Pass hydrotex::gpu::makeGlBackend() (or
   /// gpu::makeBackend("auto")) for the GL compute backend; `plugin/` itself links no GL. Drag,
-  /// added mass, the exact path, the mass model and deformation's surface evaluation run on the
-  /// controller's CPU threads with either backend; wetting and flooding's pass over the permeable
-  /// texels run on the backend (makeWetting, makeFloodingPass: the GL one runs them on the GPU).
+  /// added mass, the exact path, a deforming body's mass (per triangle) and deformation's surface
+  /// evaluation run on the controller's CPU threads with either backend; the texel mass passes of
+  /// variable-mass bodies (one batch a step), wetting and flooding's pass over the permeable
+  /// texels run on the backend (massProperties, makeWetting, makeFloodingPass: the GL one runs
+  /// them on the GPU).
   std::shared_ptr<ComputeBackend> backend;
   /// One line naming the first unusable value, or Ok.
   Status validate() const;
@@ -88,6 +91,8 @@ struct ControllerStatistics {
   std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
   std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
   std::uint64_t autoMethodChoices = 0;    ///< HydrostaticsMethod::Auto resolved at addBody (bodies given one Mesh share one)
+  std::uint64_t massBatches = 0;          ///< mass-pass batches asked of the backend (MassModelsStep; results read back once each)
+  std::uint64_t massBatchBodies = 0;      ///< bodies whose texel mass pass those batches ran
 };
 
 /// Where the controller's time went since construction or resetStatistics(), by phase of its step
@@ -222,12 +227,14 @@ class BuoyancyController : public btActionInterface {
 
   /// Applies the liquid's effects for one fixed sub-step of `deltaTimeStep` seconds, in phases
   /// over the rigid bodies (as btRaycastVehicle::updateVehicle goes over its wheels): apply each
-  /// body's deformation, flooding and mass changes (serial), read its kinematics into a
-  /// RigidBodyTask and step its liquid texture (parallel, ControllerSettings::threads); core's
+  /// body's deformation and flooding (serial), core's MassModelsStep asks the backend once for
+  /// every due texel mass pass and each changed mass goes to Bullet (serial), read its kinematics
+  /// into a RigidBodyTask and step its liquid texture (parallel, ControllerSettings::threads); core's
   /// RigidBodiesStep plans, asks the backend once for every texture body's hydrostatics (one
   /// batch, read back once) while the drag is summed, and runs each body's implicit update; write
   /// each body's velocities and sleeping state back (parallel, each its own) and add the counters
-  /// in registration order. Soft bodies follow, serially.
+  /// in registration order. The soft bodies follow, on the threads (each its own btSoftBody),
+  /// their counters added in registration order.
   void updateAction(btCollisionWorld* collisionWorld, btScalar deltaTimeStep) override;
   /// Draws, per body, the weight (red) at the centre of mass, the buoyancy (green) at the centre
   /// of buoyancy (the paper's figure 9) and the waterline (blue) where the mesh crosses the surface.
@@ -236,14 +243,15 @@ class BuoyancyController : public btActionInterface {
  private:
   FloatingBody* find(const btRigidBody* body) const;
   HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh);
-  void changeBody(FloatingBody& floating, double dt);
+  void changeBody(FloatingBody& floating, MassModelTask& massTask, double dt);
+  void prepareMass(FloatingBody& floating, MassModelTask& massTask) const;
+  void applyMass(FloatingBody& floating, const Expected<MassProperties>& properties);
   void readBody(FloatingBody& floating, RigidBodyTask& task) const;
   void wetBodies(double dt);
   static void writeBody(FloatingBody& floating, const RigidBodyTaskResult& result);
   Status applyMassProperties(FloatingBody& floating, const MassProperties& massProperties);
   void deform(FloatingBody& floating);
   Status attachDeformedCollision(FloatingBody& floating);
-  void followMassModel(FloatingBody& floating);
   void flood(FloatingBody& floating, double dt);
   void wet(FloatingBody& floating, const Pose& meshPose, const Eigen::Vector3d& gravity, double dt) const;
 
@@ -252,12 +260,16 @@ class BuoyancyController : public btActionInterface {
   ControllerSettings settings_;
   std::vector<std::unique_ptr<FloatingBody>> bodies_;
   std::vector<SoftBodyBuoyancy> softBodies_;
+  std::vector<char> softApplied_;              ///< this step: soft body i's apply() succeeded (registration order)
   ControllerStatistics statistics_;
   ControllerTimings timings_;
   std::unique_ptr<BodyThreads> threads_;
   std::shared_ptr<ComputeBackend> backend_;
   ParallelFor parallelFor_;                    ///< threads_ as core's step takes them
   RigidBodiesStep stepper_;                    ///< core's phased step of the rigid bodies
+  MassModelsStep massStepper_;                 ///< core's mass phase (one backend batch of texel mass passes)
+  std::vector<MassModelTask> massTasks_;       ///< this step's mass models per body (changeBody), registration order
+  std::vector<std::optional<Expected<MassProperties>>> massResults_;  ///< ... and their new mass properties
   std::vector<RigidBodyTask> tasks_;           ///< this step's question per body (readBody), registration order
   std::vector<RigidBodyTaskResult> results_;   ///< ... and the answers (writeBody)
   /// What identifies a shareable model: the mesh (by identity), resolution, the hydrostatics path

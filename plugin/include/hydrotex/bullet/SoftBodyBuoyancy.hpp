@@ -10,8 +10,9 @@
 /// texels). The soft body keeps its own shape through Bullet (pressure kPR, volume conservation
 /// kVC, pose matching kMT).
 ///
-/// With Effect::Drag listed in SoftBodySettings::effects, the nodes also get the rigid bodies' drag
-/// law (TexelDrag.hpp: pressure drag along each element's normal, skin friction along it), texel
+/// With Effect::Drag listed in SoftBodySettings::effects, the nodes also get core's SoftBodyDrag:
+/// the rigid bodies' drag law (TexelDrag.hpp: pressure drag along each element's normal, skin
+/// friction along it), texel
 /// by texel rather than through merged patches (the surface deforms every step): each wetted
 /// texel's velocity relative to the liquid is the area-weighted barycentric mean of its pieces'
 /// node velocities, only its wet fraction counts, and its force goes to the nodes through its
@@ -43,6 +44,7 @@
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/bake/SurfaceEvaluator.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
+#include "hydrotex/step/SoftBodyDrag.hpp"
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 
 namespace hydrotex::bullet {
@@ -125,10 +127,10 @@ class SoftBodyBuoyancy {
   std::vector<float> texelWetFraction_; // 0..1, per covered texel, this step
   std::vector<float> texelPressure_;    // Pa, per covered texel, this step
   std::vector<Eigen::Vector3d> nodeForce_;  // N, per node, this step (pressure)
-  std::vector<Eigen::Vector3d> nodeDrag_;  // N, per node, this step (Effect::Drag)
-  std::vector<Eigen::Vector3d> nodeRelative_;       // m/s, node velocity relative to the liquid (Effect::Drag)
-  std::vector<Eigen::Vector3d> deformationChange_;  // m/s, drag's change of the node's deformation velocity
-  std::vector<double> nodeMass_;                    // kg, 0 for pinned nodes
+  std::vector<Eigen::Vector3d> nodeVelocity_;    // m/s, per node, at the end of the last step (Effect::Drag)
+  std::vector<Eigen::Vector3d> velocityChange_;  // m/s, per node, the drag's change this step (Effect::Drag)
+  std::vector<double> nodeMass_;                 // kg, 0 for pinned nodes (Effect::Drag)
+  SoftBodyDrag drag_;                            // core's drag step and its scratch (Effect::Drag)
   SoftBodySettings settings_;
   std::vector<Eigen::Vector3d> faceAreaVector_;  // m^2, per triangle, this step
   std::size_t faceCount_ = 0;

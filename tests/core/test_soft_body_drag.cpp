@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: Zlib
+// SoftBodyDrag, the drag of a body whose vertices move on their own, against closed forms: a box
+// whose vertices all move with one velocity U through still water, under the linear pressure
+// term alone, is a rigid body under F = -rho c (2 A_x) U (the two faces across the motion; the
+// others see no normal velocity), which the semi-implicit step takes as U' = U / (1 + rho c 2 A_x
+// dt / M) with no deformation; vertices at rest in the liquid get nothing; pinned ones nothing.
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/TexelPressure.hpp"
+#include "hydrotex/mesh/Primitives.hpp"
+#include "hydrotex/step/SoftBodyDrag.hpp"
+
+using namespace hydrotex;
+
+namespace {
+
+/// A 1 x 0.5 x 0.8 m box baked at 64^2, wholly under a flat surface 10 m above it.
+struct SubmergedBox {
+  BodyGeometry geometry;
+  FlatSurface surface{10.0, 1000.0};
+  std::vector<float> pressure, wet;
+  std::vector<Eigen::Vector3d> areaVectors;
+
+  SubmergedBox() {
+    BodyGeometrySettings settings;
+    settings.bake.width = settings.bake.height = 64;
+    Expected<BodyGeometry> made = prepareBodyGeometry(primitives::box({1.0, 0.5, 0.8}), settings);
+    REQUIRE(made.ok());
+    geometry = std::move(made).value();
+    pressure.resize(geometry.textures.size());
+    wet.resize(geometry.textures.size());
+    texelPressures(geometry.textures, surface, 0.0, 9.81, pressure, wet);
+    const Mesh& mesh = geometry.mesh;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const Eigen::Vector3d& a = mesh.positions[std::size_t(t[0])];
+      areaVectors.push_back(0.5 * (mesh.positions[std::size_t(t[1])] - a).cross(mesh.positions[std::size_t(t[2])] - a));
+    }
+  }
+
+  SoftBodyDragInput input(const std::vector<Eigen::Vector3d>& velocity, const std::vector<double>& mass, double dt) const {
+    SoftBodyDragInput in;
+    in.mesh = &geometry.mesh;
+    in.bake = &geometry.bake;
+    in.textures = &geometry.textures;
+    in.wetFraction = wet;
+    in.triangleAreaVectors = areaVectors;
+    in.vertexVelocity = velocity;
+    in.vertexMass = mass;
+    in.surface = &surface;
+    in.viscosity = 1e-3;
+    in.dt = dt;
+    in.coefficients.advancingPressure = 0.0;
+    in.coefficients.retreatingPressure = 0.0;
+    in.coefficients.linearPressureVelocity = 0.5;
+    in.coefficients.skinFrictionScale = 0.0;
+    return in;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("soft body drag: a translating box slows as the implicit step of its linear damping says", "[step][drag][closed-form]") {
+  const SubmergedBox box;
+  const std::size_t count = box.geometry.mesh.positions.size();
+  const double totalMass = 8.0, dt = 0.01, c = 0.5, rho = 1000.0, facesAcross = 2.0 * 0.5 * 0.8;
+  const Eigen::Vector3d u(0.7, 0.0, 0.0);
+  const std::vector<Eigen::Vector3d> velocity(count, u);
+  const std::vector<double> mass(count, totalMass / double(count));
+  std::vector<Eigen::Vector3d> change(count);
+  SoftBodyDrag drag;
+  const SoftBodyDragResult result = drag.step(box.input(velocity, mass, dt), change);
+  // Every texel is under water (wet fraction 1) and the texels tile the faces: the force is the
+  // faces' to float rounding of the texel areas (1e-6).
+  CHECK(result.texelsVisited == box.geometry.textures.size());
+  CHECK(result.force.x() == Approx(-rho * c * facesAcross * u.x()).epsilon(1e-6));
+  CHECK(std::abs(result.force.y()) < 1e-6 * std::abs(result.force.x()));
+  CHECK(std::abs(result.force.z()) < 1e-6 * std::abs(result.force.x()));
+  // Implicit along the motion: U' = U / (1 + k), k = rho c 2 A_x dt / M (here 0.5); no deformation,
+  // every vertex the same change (the force's float rounding of the texel areas: 1e-6 of U).
+  const double k = rho * c * facesAcross * dt / totalMass;
+  const Eigen::Vector3d expected = u / (1.0 + k) - u;
+  for (const Eigen::Vector3d& dv : change) CHECK((dv - expected).norm() < 1e-6 * u.norm());
+  // The work: the kinetic energy lost, over dt (<= 0).
+  const double lost = 0.5 * totalMass * ((u / (1.0 + k)).squaredNorm() - u.squaredNorm()) / dt;
+  CHECK(result.power < 0.0);
+  CHECK(result.power == Approx(lost).epsilon(1e-5));
+}
+
+TEST_CASE("soft body drag: vertices at rest in the liquid and pinned vertices get nothing", "[step][drag]") {
+  const SubmergedBox box;
+  const std::size_t count = box.geometry.mesh.positions.size();
+  std::vector<Eigen::Vector3d> change(count);
+  SoftBodyDrag drag;
+  // Moving with the current: no relative velocity, no force, no change (exactly).
+  const Eigen::Vector3d current(0.3, 0.0, -0.2);
+  const std::vector<Eigen::Vector3d> withCurrent(count, current);
+  const std::vector<double> unit(count, 1.0);
+  SoftBodyDragInput input = box.input(withCurrent, unit, 0.01);  // spans: the vectors must outlive it
+  input.current = current;
+  const SoftBodyDragResult still = drag.step(input, change);
+  CHECK(still.force.norm() == 0.0);
+  CHECK(still.power == 0.0);
+  for (const Eigen::Vector3d& dv : change) CHECK(dv.norm() == 0.0);
+  // A pinned vertex (mass 0) is left as it is while the others slow down.
+  std::vector<double> mass(count, 1.0);
+  mass[0] = 0.0;
+  const std::vector<Eigen::Vector3d> velocity(count, Eigen::Vector3d(0.0, -0.4, 0.0));
+  drag.step(box.input(velocity, mass, 0.01), change);
+  CHECK(change[0].norm() == 0.0);
+  for (std::size_t n = 1; n < count; ++n) CHECK(change[n].y() > 0.0);  // slowed: against the downward motion
+}
