@@ -69,6 +69,39 @@ void main() {
     low = min(low, p - reach);
     high = max(high, p + reach);
   }
+  // The moment corrections of the chunk's texels of several pieces (SurfaceEvaluator's float
+  // formula: Sum_k (c_k - p) A_k^T and the reach max |c_k - p|), written for the hydrostatics
+  // passes; the pieces lie within the reach of p, which the bounds take in.
+  vec3 correctionPosition[kPerInvocation];  // this lane's corrections: p and dM, for the moments
+  mat3 correctionMoment[kPerInvocation];
+  for (uint j = lane; j < chunk.correctionCount; j += kGroup) {
+    uint slot = chunk.correctionBegin + j;
+    uint texelInChunk = corrections[slot].texel;
+    uint texel = chunkFirst[bodyChunk] + texelInChunk;
+    vec3 p, a, eu, ev;
+    float area;
+    evaluateTexel(texel, p, a, area, eu, ev);
+    mat3 dm = mat3(0.0);  // column k: Sum_k (c_k - p) A_k[k]
+    float pieceReach = 0.0;
+    uint begin = pieceStart[texel], end = min(pieceStart[texel + 1u], pieceCount);
+    for (uint k = begin; k < end; ++k) {
+      DeformPiece piece = pieces[k];
+      if (piece.triangle >= triangleCount) continue;
+      float f[20] = frames[piece.triangle].value;
+      vec3 pieceCentroid = vec3(f[0], f[1], f[2]) + piece.centroidBary1 * vec3(f[3], f[4], f[5]) +
+                           piece.centroidBary2 * vec3(f[6], f[7], f[8]);
+      vec3 pieceAreaVector = piece.areaFraction * vec3(f[9], f[10], f[11]);
+      dm += outerProduct(pieceCentroid - p, pieceAreaVector);
+      pieceReach = max(pieceReach, length(pieceCentroid - p));
+    }
+    for (int row = 0; row < 3; ++row)
+      for (int k = 0; k < 3; ++k) corrections[slot].moment[3 * row + k] = dm[k][row];
+    corrections[slot].reach = pieceReach;
+    correctionPosition[j / kGroup] = p;
+    correctionMoment[j / kGroup] = dm;
+    low = min(low, p - vec3(pieceReach));
+    high = max(high, p + vec3(pieceReach));
+  }
 
   // Bounds, widened as GlBackend's upload widens them (float rounding of the centre and of the
   // classification's dot products).
@@ -96,36 +129,19 @@ void main() {
       for (int pair = 0; pair < 6; ++pair) m[13 + 3 * pair + k] += pairs[pair] * a[k];
     }
   }
-  // The corrections: written for the hydrostatics passes and added to the moments as core's tiles
-  // add them (q A^T gains dM, q_i q_j A_k gains q_i dM_jk + dM_ik q_j).
+  // This lane's corrections added to the moments as core's tiles add them: q A^T gains dM,
+  // q_i q_j A_k gains q_i dM_jk + dM_ik q_j.
   for (uint j = lane; j < chunk.correctionCount; j += kGroup) {
-    uint slot = chunk.correctionBegin + j;
-    uint texel = chunkFirst[bodyChunk] + corrections[slot].texel;
-    vec3 p, a, eu, ev;
-    float area;
-    evaluateTexel(texel, p, a, area, eu, ev);
-    mat3 dm = mat3(0.0);  // column k: Sum_k (c_k - p) A_k[k]
-    uint begin = pieceStart[texel], end = min(pieceStart[texel + 1u], pieceCount);
-    for (uint k = begin; k < end; ++k) {
-      DeformPiece piece = pieces[k];
-      if (piece.triangle >= triangleCount) continue;
-      float f[20] = frames[piece.triangle].value;
-      vec3 pieceCentroid = vec3(f[0], f[1], f[2]) + piece.centroidBary1 * vec3(f[3], f[4], f[5]) +
-                      piece.centroidBary2 * vec3(f[6], f[7], f[8]);
-      vec3 pieceAreaVector = piece.areaFraction * vec3(f[9], f[10], f[11]);
-      dm += outerProduct(pieceCentroid - p, pieceAreaVector);
-    }
-    for (int row = 0; row < 3; ++row)
-      for (int k = 0; k < 3; ++k) corrections[slot].moment[3 * row + k] = dm[k][row];
-    vec3 q = p - center;
+    vec3 q = correctionPosition[j / kGroup] - center;
     for (int k = 0; k < 3; ++k) {
-      for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += dm[k][row];
-      m[13 + 3 * 0 + k] += 2.0 * q.x * dm[k].x;
-      m[13 + 3 * 1 + k] += q.x * dm[k].y + dm[k].x * q.y;
-      m[13 + 3 * 2 + k] += q.x * dm[k].z + dm[k].x * q.z;
-      m[13 + 3 * 3 + k] += 2.0 * q.y * dm[k].y;
-      m[13 + 3 * 4 + k] += q.y * dm[k].z + dm[k].y * q.z;
-      m[13 + 3 * 5 + k] += 2.0 * q.z * dm[k].z;
+      vec3 dmk = correctionMoment[j / kGroup][k];  // dM(:, k)
+      for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += dmk[row];
+      m[13 + 3 * 0 + k] += 2.0 * q.x * dmk.x;
+      m[13 + 3 * 1 + k] += q.x * dmk.y + dmk.x * q.y;
+      m[13 + 3 * 2 + k] += q.x * dmk.z + dmk.x * q.z;
+      m[13 + 3 * 3 + k] += 2.0 * q.y * dmk.y;
+      m[13 + 3 * 4 + k] += q.y * dmk.z + dmk.y * q.z;
+      m[13 + 3 * 5 + k] += 2.0 * q.z * dmk.z;
     }
   }
   for (int k = 0; k < 32; ++k) reduction[k][lane] = m[k];

@@ -59,7 +59,8 @@ void main() {
     sums[9] += fay * z * z;
     sums[10] += f.x * t.area;
   }
-  // The chunk's texels of several pieces add their moment corrections, weighted as above.
+  // The chunk's texels of several pieces add their moment corrections, weighted by the submerged
+  // share of their pieces' span (correctionWeight).
   for (uint j = gl_LocalInvocationID.x; j < chunk.correctionCount; j += kGroup) {
     TexelCorrection c = corrections[chunk.correctionBegin + j];
     HydroTexel t = texels[chunk.begin + c.texel];
@@ -67,12 +68,13 @@ void main() {
     float a = dot(row1, vec3(t.ux, t.uy, t.uz));
     float b = dot(row1, vec3(t.vx, t.vy, t.vz));
     float depth = -(dot(row1, p) + pose.row1.w);
-    if (depth <= -0.5 * (abs(a) + abs(b))) continue;  // dry
+    float weight = correctionWeight(depth, 0.5 * (abs(a) + abs(b)), c.reach);
+    if (weight == 0.0) continue;  // every piece dry
     float x = dot(pose.row0.xyz, p) + pose.row0.w;
     float z = dot(pose.row2.xyz, p) + pose.row2.w;
     vec3 d0, d1, d2;
     worldMoment(c, pose.row0.xyz, row1, pose.row2.xyz, d0, d1, d2);
-    addMomentCorrection(sums, d0, d1, d2, x, -depth, z, waterlineFractions(depth, a, b).x, depth, 0.0, vec2(0.0));
+    addMomentCorrection(sums, d0, d1, d2, x, -depth, z, weight, depth, 0.0, vec2(0.0));
   }
 
   uint lane = gl_LocalInvocationID.x;

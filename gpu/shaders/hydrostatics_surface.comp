@@ -193,7 +193,7 @@ void main() {
     heads[5] += head * (x * a.y - y * a.x);
   }
   // The chunk's texels of several pieces add their moment corrections (waterline.glsl), weighted
-  // as above; the head's share is its first-order term too, with the head e at the centre and
+  // by the submerged share of their pieces' span (correctionWeight); the head's share is its first-order term too, with the head e at the centre and
   // grad e = (slope.x, -1, slope.y) under a free surface (e = D), (0, e', 0) with
   // e' = -exp(-y'/H) in a medium.
   for (uint j = gl_LocalInvocationID.x; j < chunk.correctionCount; j += kGroup) {
@@ -214,12 +214,13 @@ void main() {
     float ea = dot(row1, vec3(t.ux, t.uy, t.uz));
     float eb = dot(row1, vec3(t.vx, t.vy, t.vz));
     float halfSpan = 0.5 * (abs(ea) + abs(eb));
-    if (y - halfSpan >= dryLevelOf(chunk.body)) continue;
+    float span = max(halfSpan, c.reach);  // the pieces may reach beyond the patch
+    if (y - span >= dryLevelOf(chunk.body)) continue;
     vec2 slope;
     float localHeight = surfaceHeightAt(x, z, chunk.body, slope);
     float depth = localHeight - y;
-    if (!(depth > -halfSpan)) continue;
-    float weight = waterlineFractions(depth, ea, eb).x;
+    if (!(depth > -span)) continue;
+    float weight = correctionWeight(depth, halfSpan, c.reach);
     float head = depth;
     vec3 gradient = vec3(slope.x, -1.0, slope.y);
 #endif

@@ -51,6 +51,15 @@ void worldMoment(TexelCorrection c, vec3 r0, vec3 r1, vec3 r2, out vec3 d0, out 
   d2 = vec3(dot(rm2, r0), dot(rm2, r1), dot(rm2, r2));
 }
 
+// The weight of a texel's moment correction (core's correctionWeight): the submerged share of the
+// vertical segment y' +- s, s the larger of the patch's half span and the pieces' reach.
+float correctionWeight(float depth, float halfSpan, float reach) {
+  float s = max(halfSpan, reach);
+  if (depth >= s) return 1.0;
+  if (depth <= -s) return 0.0;
+  return 0.5 * (depth + s) / s;
+}
+
 // A texel's moment correction in the 11 FlatWettedSums, weighted by its submerged fraction
 // `weight`, at x' = (x, y, z) with the depth D = h' - y' at its centre, the local height h' and the
 // surface's slope there (core's WettedSums::addMomentCorrection: the sums' first-order term over

@@ -221,7 +221,7 @@ class GlBackend final : public ComputeBackend {
       // The chunk's texels of several pieces: their corrections, in one range (values: uploadSurface).
       chunk.correctionBegin = static_cast<std::uint32_t>(hydroCorrections_.size());
       while (corrected < textures.momentTexel.size() && textures.momentTexel[corrected] < first + chunkCount) {
-        hydroCorrections_.push_back(layout::TexelCorrection{textures.momentTexel[corrected] - first, {}});
+        hydroCorrections_.push_back(layout::TexelCorrection{textures.momentTexel[corrected] - first, {}, 0.0f});
         ++corrected;
       }
       chunk.correctionCount = static_cast<std::uint32_t>(hydroCorrections_.size()) - chunk.correctionBegin;
@@ -400,6 +400,7 @@ class GlBackend final : public ComputeBackend {
         const layout::TexelCorrection& correction = corrections[chunk.correctionBegin - body.correctionBegin + k];
         out.momentTexel.push_back(hydroChunkFirst_[c] + correction.texel);
         out.momentCorrection.push_back(Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(correction.moment));
+        out.momentReach.push_back(correction.reach);
       }
     }
     return out;
@@ -635,14 +636,16 @@ class GlBackend final : public ComputeBackend {
       if (!textures.position[i].allFinite() || !textures.areaVector[i].allFinite() || !textures.edgeU[i].allFinite() ||
           !textures.edgeV[i].allFinite() || !std::isfinite(textures.area[i]))
         return Error{"gpu backend: texel " + std::to_string(i) + " has a non-finite value"};
-    if (textures.momentCorrection.size() != textures.momentTexel.size())
+    if (textures.momentCorrection.size() != textures.momentTexel.size() ||
+        textures.momentReach.size() != textures.momentTexel.size())
       return Error{"gpu backend: " + std::to_string(textures.momentTexel.size()) + " corrected texels, " +
                    std::to_string(textures.momentCorrection.size()) + " moment corrections"};
     for (std::size_t c = 0; c < textures.momentTexel.size(); ++c) {
       if (textures.momentTexel[c] >= count || (c > 0 && textures.momentTexel[c] <= textures.momentTexel[c - 1]))
         return Error{"gpu backend: moment correction " + std::to_string(c) + " names texel " +
                      std::to_string(textures.momentTexel[c]) + " (out of range or out of order)"};
-      if (!textures.momentCorrection[c].allFinite())
+      if (!textures.momentCorrection[c].allFinite() || !(textures.momentReach[c] >= 0.0f) ||
+          !std::isfinite(textures.momentReach[c]))
         return Error{"gpu backend: moment correction " + std::to_string(c) + " has a non-finite value"};
     }
     return Ok{};
@@ -692,6 +695,7 @@ class GlBackend final : public ComputeBackend {
       layout::TexelCorrection& out = hydroCorrections_[body.correctionBegin + c];
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) out.moment[3 * i + k] = m(i, k);
+      out.reach = textures.momentReach[c];
       body.sumPA += m.cast<double>();
     }
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
@@ -705,6 +709,13 @@ class GlBackend final : public ComputeBackend {
             0.5 * (textures.edgeU[i].cast<double>().cwiseAbs() + textures.edgeV[i].cast<double>().cwiseAbs());
         low = low.cwiseMin(p - reach);
         high = high.cwiseMax(p + reach);
+      }
+      // A corrected texel's pieces lie within its reach of p (beyond its patch where they are far apart).
+      for (std::uint32_t k = 0; k < chunk.correctionCount; ++k) {
+        const layout::TexelCorrection& correction = hydroCorrections_[chunk.correctionBegin + k];
+        const Eigen::Vector3d p = textures.position[first + correction.texel].cast<double>();
+        low = low.cwiseMin(p - Eigen::Vector3d::Constant(correction.reach));
+        high = high.cwiseMax(p + Eigen::Vector3d::Constant(correction.reach));
       }
       const Eigen::Vector3d center = 0.5 * (low + high);
       // Widened by float rounding of the centre and of the shader's dot products, so that the

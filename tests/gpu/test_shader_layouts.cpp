@@ -137,8 +137,9 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
                HYDROTEX_MEMBER(Chunk, correctionBegin), HYDROTEX_MEMBER(Chunk, correctionCount)});
   using layout::TexelCorrection;
   checkLayout(shader, "TexelCorrection", sizeof(TexelCorrection),
-              {HYDROTEX_MEMBER(TexelCorrection, texel), HYDROTEX_MEMBER(TexelCorrection, moment)});
-  CHECK(sizeof(TexelCorrection) == 40);
+              {HYDROTEX_MEMBER(TexelCorrection, texel), HYDROTEX_MEMBER(TexelCorrection, moment),
+               HYDROTEX_MEMBER(TexelCorrection, reach)});
+  CHECK(sizeof(TexelCorrection) == 44);
   using layout::BodyPose;
   checkLayout(shader, "BodyPose", sizeof(BodyPose),
               {HYDROTEX_MEMBER(BodyPose, row0), HYDROTEX_MEMBER(BodyPose, row1), HYDROTEX_MEMBER(BodyPose, row2)});

@@ -289,6 +289,7 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
   const double texelU = bake.width > 0 ? 1.0 / bake.width : 0.0;
   const double texelV = bake.height > 0 ? 1.0 / bake.height : 0.0;
 
+  std::vector<Eigen::Vector3d> centroids;  // the current texel's pieces' (momentReach)
   for (std::size_t i = 0; i < covered; ++i) {
     Eigen::Vector3d areaVector = Eigen::Vector3d::Zero(), weightedCentroid = Eigen::Vector3d::Zero();
     Eigen::Vector3d edgeU = Eigen::Vector3d::Zero(), edgeV = Eigen::Vector3d::Zero();
@@ -296,6 +297,7 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     double openingArea = 0.0;
     Eigen::Vector3d openingAreaVector = Eigen::Vector3d::Zero(), openingWeighted = Eigen::Vector3d::Zero();
     Eigen::Matrix3d firstMoment = Eigen::Matrix3d::Zero();  // Sum c_k A_k^T over the pieces
+    centroids.clear();
     for (std::uint32_t k = bake.pieceStart[i]; k < bake.pieceStart[i + 1]; ++k) {
       const TexelPiece& piece = bake.pieces[k];
       if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
@@ -315,6 +317,7 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
       weightedCentroid += pieceArea * centroid;
       flux += centroid.dot(pieceAreaVector);
       firstMoment += centroid * pieceAreaVector.transpose();
+      centroids.push_back(centroid);
       const double pieceUv = fraction * f.uvArea;
       uvWeight += pieceUv;
       edgeU += pieceUv * f.dPdu;
@@ -337,6 +340,10 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
       out.momentTexel.push_back(static_cast<std::uint32_t>(i));
       const Eigen::Matrix3d stored = out.position[i].cast<double>() * out.areaVector[i].cast<double>().transpose();
       out.momentCorrection.push_back((firstMoment - stored).cast<float>());
+      double reach = 0.0;
+      for (const Eigen::Vector3d& centroid : centroids)
+        reach = std::max(reach, (centroid - out.position[i].cast<double>()).norm());
+      out.momentReach.push_back(static_cast<float>(reach));
     }
     if (!opening.empty()) {
       out.openingArea[i] = static_cast<float>(openingArea);

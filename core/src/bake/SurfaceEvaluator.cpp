@@ -155,6 +155,7 @@ void SurfaceEvaluator::evaluateGroup(const Group& group, std::uint32_t piecesPer
       // SurfaceTextures::momentCorrection: Sum_k (c_k - p) A_k^T (A is the sum of the A_k), the
       // differences first (they are of the texel's size, where c_k A_k^T - p A^T would cancel).
       Eigen::Matrix3f correction = Eigen::Matrix3f::Zero();
+      float reach = 0.0f;  // SurfaceTextures::momentReach
       for (std::uint32_t k = 0; k < n; ++k) {
         Eigen::Array4f centroid, pieceAreaVector;
         if constexpr (Pieces > 0) {
@@ -166,8 +167,11 @@ void SurfaceEvaluator::evaluateGroup(const Group& group, std::uint32_t piecesPer
           centroid = f.p0 + piece[k].bary1 * f.e1 + piece[k].bary2 * f.e2;
         }
         const Eigen::Vector3f pieceA = pieceAreaVector.head<3>().matrix();
-        correction += (centroid.head<3>().matrix() - position) * pieceA.transpose();
+        const Eigen::Vector3f offset = centroid.head<3>().matrix() - position;
+        correction += offset * pieceA.transpose();
+        reach = std::max(reach, offset.norm());
       }
+      out.momentReach[correctionSlot_[group.firstTexel + t]] = reach;
       out.momentCorrection[correctionSlot_[group.firstTexel + t]] = correction;
     }
   }
@@ -212,6 +216,7 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
   out.edgeV.resize(texelCount_);
   if (out.momentTexel != momentTexel_) out.momentTexel = momentTexel_;
   out.momentCorrection.resize(momentTexel_.size());
+  out.momentReach.resize(momentTexel_.size());
   const auto nullFrame = static_cast<std::uint32_t>(triangleCount);
   for (const Group& group : groups_) {
     switch (group.piecesPerTexel) {

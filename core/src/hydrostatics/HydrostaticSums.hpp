@@ -14,6 +14,7 @@
 /// part of each element under the surface.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -167,6 +168,18 @@ inline WaterlineFractions waterlineFractions(double d, double a, double b) {
     meanSq = mean * mean;
   }
   return {frac, mean, meanSq - frac * variance};
+}
+
+/// The weight of a texel's moment correction (WettedSums::addMomentCorrection): the submerged
+/// share of the vertical segment y' +- s about its centre, `depth` d above it, s the larger of the
+/// patch's half span and the reach of its pieces' centroids: 1 when every piece is under, 0 when
+/// every one is over, linear between (exact for a lid and a bottom stacked in one texel of a
+/// packed atlas, where the patch's own fraction would count both or neither).
+inline double correctionWeight(double d, double halfSpan, double reach) {
+  const double s = std::max(halfSpan, reach);
+  if (d >= s) return 1.0;
+  if (d <= -s) return 0.0;
+  return 0.5 * (d + s) / s;
 }
 
 /// How the force and torque are formed.

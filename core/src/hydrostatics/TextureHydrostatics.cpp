@@ -66,11 +66,13 @@ inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const MomentC
   verticalEdges(t, r, a, b);
   const double depth = -(r(1, 0) * t.position[0] + r(1, 1) * t.position[1] + r(1, 2) * t.position[2] + offset.y());
   const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
-  if (depth <= -halfSpan) return;  // dry
+  if (depth <= -(correction ? std::max(halfSpan, double(correction->reach)) : halfSpan)) return;  // dry
   const PosedTexel w = pose(t, r, offset);
-  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
+  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);  // 0 when the patch is dry
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
-  if (correction) sums.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r), f.area, depth, 0.0, 0.0, 0.0);
+  if (correction)
+    sums.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r),
+                             detail::correctionWeight(depth, halfSpan, correction->reach), depth, 0.0, 0.0, 0.0);
 }
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
@@ -92,7 +94,9 @@ inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const Mom
   sums.pressureTorque[2] += w.x * fy - w.y * fx;
   if (!correction) return;
   detail::WettedSums part;
-  part.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r), f.area, depth, localHeight, slopeX, slopeZ);
+  part.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r),
+                           detail::correctionWeight(depth, 0.5 * (std::abs(a) + std::abs(b)), correction->reach), depth,
+                           localHeight, slopeX, slopeZ);
   for (int k = 0; k < 3; ++k) {
     part.pressureForce[k] = -rhoG * part.sumDA[k];
     part.pressureTorque[k] = -rhoG * part.sumDxA[k];
@@ -187,7 +191,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
 
   // The moment corrections, by packed texel (a tile's are then one contiguous range).
   const std::size_t corrected = textures.momentTexel.size();
-  if (textures.momentCorrection.size() != corrected)
+  if (textures.momentCorrection.size() != corrected || textures.momentReach.size() != corrected)
     return Error{"texture hydrostatics: " + std::to_string(corrected) + " corrected texels, " +
                  std::to_string(textures.momentCorrection.size()) + " moment corrections"};
   std::vector<std::uint32_t> packedOf(count);
@@ -198,7 +202,8 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     if (textures.momentTexel[c] >= count)
       return Error{"texture hydrostatics: moment correction " + std::to_string(c) + " names texel " +
                    std::to_string(textures.momentTexel[c]) + " of " + std::to_string(count)};
-    if (!textures.momentCorrection[c].allFinite())
+    if (!textures.momentCorrection[c].allFinite() || !(textures.momentReach[c] >= 0.0f) ||
+        !std::isfinite(textures.momentReach[c]))
       return Error{"texture hydrostatics: moment correction " + std::to_string(c) + " has a non-finite value"};
     out.correctionSource_[c] = std::uint32_t(c);
     out.corrections_[c].texel = packedOf[textures.momentTexel[c]];
@@ -316,6 +321,7 @@ void TextureHydrostatics::loadCorrections(const SurfaceTextures& textures) {
     const Eigen::Matrix3f& m = textures.momentCorrection[correctionSource_[c]];
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) corrections_[c].moment[i][k] = m(i, k);
+    corrections_[c].reach = textures.momentReach[correctionSource_[c]];
   }
 }
 
@@ -344,6 +350,14 @@ void TextureHydrostatics::refresh() {
           high[c] = std::max(high[c], texel.position[c] + reach);
         }
       }
+      // A corrected texel's pieces lie within its reach of p (they may lie beyond its patch).
+      for (std::uint32_t c = tile.correctionBegin; c < tile.correctionEnd; ++c) {
+        const Texel& texel = texels_[corrections_[c].texel];
+        for (int axis = 0; axis < 3; ++axis) {
+          low[axis] = std::min(low[axis], texel.position[axis] - corrections_[c].reach);
+          high[axis] = std::max(high[axis], texel.position[axis] + corrections_[c].reach);
+        }
+      }
       tripleVolume += tile.moments.sumPA[0][0] + tile.moments.sumPA[1][1] + tile.moments.sumPA[2][2];
       Eigen::Vector3d lowD(low[0], low[1], low[2]), highD(high[0], high[1], high[2]);
       const Eigen::Vector3d slack = 1e-6 * (highD - lowD).cwiseAbs() + 1e-7 * (lowD.cwiseAbs() + highD.cwiseAbs());
@@ -359,6 +373,11 @@ void TextureHydrostatics::refresh() {
         const Eigen::Vector3d u(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]);
         const Eigen::Vector3d v(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]);
         radius = std::max(radius, (p - tile.boundsCenter).norm() + 0.5 * (u.norm() + v.norm()));
+      }
+      for (std::uint32_t c = tile.correctionBegin; c < tile.correctionEnd; ++c) {
+        const Texel& texel = texels_[corrections_[c].texel];
+        const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
+        radius = std::max(radius, (p - tile.boundsCenter).norm() + corrections_[c].reach);
       }
       tile.boundsRadius = std::min(radius * (1.0 + 1e-6), tile.boundsHalfExtent.norm());
       group.moments.add(tile.moments);
@@ -403,7 +422,7 @@ Status TextureHydrostatics::update(const SurfaceTextures& textures) {
     valid_ = false;
     return Error{"texture hydrostatics: moved textures differ in resolution from the build"};
   }
-  if (textures.momentCorrection.size() != corrections_.size()) {
+  if (textures.momentCorrection.size() != corrections_.size() || textures.momentReach.size() != corrections_.size()) {
     valid_ = false;
     return Error{"texture hydrostatics: moved textures hold " + std::to_string(textures.momentCorrection.size()) +
                  " moment corrections, the build had " + std::to_string(corrections_.size())};
@@ -541,16 +560,18 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
       const MomentCorrection* correction = correctionOf(corrections_, cursor, tile.correctionEnd, i);
       double a, b;
       verticalEdges(texel, r, a, b);
+      // A corrected texel's pieces reach farther than its patch where they lie far apart.
       const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const double span = correction ? std::max(halfSpan, double(correction->reach)) : halfSpan;
       const PosedTexel w = pose(texel, r, offset);
-      if (w.y - halfSpan >= highest) continue;
+      if (w.y - span >= highest) continue;
       // A corrected texel takes the surface's jet where it has one: its slope enters the correction.
       const std::optional<SurfaceJet> jet =
           correction ? surface.heightJet(w.x + origin.x(), w.z + origin.z(), q.time) : std::nullopt;
       const double localHeight =
           (jet ? jet->height : surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time)) - origin.y();
       const double depth = localHeight - w.y;
-      if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
+      if (!(depth > -span)) continue;  // dry (or a NaN height)
       addWaveTexel(sums, texel, correction, r, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
                    jet ? jet->slopeZ : 0.0, rhoG);
     }

@@ -214,9 +214,10 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double a = y0 * texel.edgeU[0] + y1 * texel.edgeU[1] + y2 * texel.edgeU[2];
       const double b = y0 * texel.edgeV[0] + y1 * texel.edgeV[1] + y2 * texel.edgeV[2];
       const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const double span = moment ? std::max(halfSpan, double(moment->reach)) : halfSpan;  // its pieces' reach
       const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
       const double y = y0 * px + y1 * py + y2 * pz + by;
-      if (!model && y - halfSpan >= highest) continue;
+      if (!model && y - span >= highest) continue;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;
       // A corrected texel needs the slope too (WettedSums::addMomentCorrection): the model's, or
@@ -234,7 +235,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       } else {
         height = surface.surfaceHeight(x + origin.x(), z + origin.z(), q.time) - origin.y();
       }
-      if (!(height - y > -halfSpan)) continue;  // dry (or a NaN height)
+      if (!(height - y > -span)) continue;  // dry (or a NaN height)
       const detail::WaterlineFractions f = detail::waterlineFractions(height - y, a, b);
       const double ax = texel.areaVector[0], ay = texel.areaVector[1], az = texel.areaVector[2];
       local.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
@@ -243,7 +244,9 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
         Eigen::Matrix3d bodyMoment;
         for (int row = 0; row < 3; ++row)
           for (int k = 0; k < 3; ++k) bodyMoment(row, k) = moment->moment[row][k];
-        local.addMomentCorrection(x, y, z, r * bodyMoment * r.transpose(), f.area, height - y, height, slopeX, slopeZ);
+        local.addMomentCorrection(x, y, z, r * bodyMoment * r.transpose(),
+                                  detail::correctionWeight(height - y, halfSpan, moment->reach), height - y, height, slopeX,
+                                  slopeZ);
       }
     }
     sums.add(local);

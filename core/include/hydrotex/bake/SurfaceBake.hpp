@@ -115,6 +115,10 @@ struct SurfaceTextures {
   /// wholly submerged body are exact at every orientation (docs/design.md "Exact texels"). Its
   /// trace is zero up to rounding (p . A is the pieces' flux); zero for coplanar pieces.
   std::vector<Eigen::Matrix3f> momentCorrection;
+  /// Per entry of momentTexel: the largest distance from p to a piece's centroid (m). Where a
+  /// packed atlas puts pieces of distant faces in one texel (a lid and a bottom), the correction
+  /// is weighted by the submerged share of p's vertical span +- this, not of the texel's patch.
+  std::vector<float> momentReach;
 
   /// Number of covered texels.
   std::size_t size() const { return position.size(); }

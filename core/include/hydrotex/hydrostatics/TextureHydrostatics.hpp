@@ -106,6 +106,7 @@ class TextureHydrostatics {
   struct MomentCorrection {
     std::uint32_t texel = 0;  ///< index into the packed texels
     float moment[3][3] = {};  ///< Sum_k c_k A_k^T - p A^T (m^3, body frame), [i][k]
+    float reach = 0.0f;       ///< largest distance from p to a piece's centroid (m)
   };
 
   /// Moments of a set of texels in the body frame, in double, sufficient to evaluate every
