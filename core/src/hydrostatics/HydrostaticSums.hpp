@@ -64,7 +64,7 @@ struct WettedSums {
 
   /// Adds the part of one texel's sums that its single position leaves out when its pieces lie
   /// on several triangles (SurfaceTextures::momentCorrection, here in the world frame:
-  /// dm = R dM R^T, m^3), times `weight` (its submerged fraction). Each sum is Sum g(x) A_k over
+  /// dm = R dM R^T, m^3), times `weight` (correctionWeight, below). Each sum is Sum g(x) A_k over
   /// the pieces for some g; with c_k = x' + d_k, Sum_k g(c_k) A_k = g(x') A + grad g(x') .
   /// Sum_k d_k A_k + O(d^2) = g(x') A + grad g . dm(:, k): exact for the linear g (the volume and
   /// force under a plane), first order in the texel size for the others. `depth` is the depth

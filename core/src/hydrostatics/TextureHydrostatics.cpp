@@ -5,7 +5,8 @@
 /// it under the surface is weighted exactly for that patch (HydrostaticSums.hpp,
 /// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1). A texel
 /// of pieces on several triangles adds its moment correction (SurfaceTextures::momentCorrection;
-/// WettedSums::addMomentCorrection) weighted by its submerged fraction: with it the volume and
+/// WettedSums::addMomentCorrection) weighted by the submerged share of its pieces' span
+/// (correctionWeight): with it the volume and
 /// force of a wholly submerged body are the pieces' exact sums at every pose, with no per-pose
 /// factor; the first moments (centre of buoyancy, torque) stay second order in the texel size.
 
