@@ -93,6 +93,24 @@ struct WettedSums {
     sumZZAy += w * 2.0 * z * dm(2, 1);
   }
 
+  /// addMomentCorrection under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
+  /// result reads (finishHydrostatics with ForceModel::Archimedes), which need only the column
+  /// dm(:, 1) = `column` (m^3): sumDA[0], sumDA[2] and sumDxA are left as they are (a flat
+  /// surface's force and torque come from the volume and the centre of buoyancy).
+  inline void addFlatMomentCorrection(double x, double y, double z, const Eigen::Vector3d& column, double weight,
+                                      double depth) {
+    const double w = weight;
+    sumDA[1] -= w * column.y();
+    sumDXAy += w * (depth * column.x() - x * column.y());
+    sumDZAy += w * (depth * column.z() - z * column.y());
+    sumYB += w * y * column.y();
+    sumXAy += w * column.x();
+    sumZAy += w * column.z();
+    sumXXAy += w * 2.0 * x * column.x();
+    sumXZAy += w * (x * column.z() + z * column.x());
+    sumZZAy += w * 2.0 * z * column.z();
+  }
+
   /// Adds another set of sums (the same frame).
   inline void add(const WettedSums& o) {
     for (int k = 0; k < 3; ++k) {

@@ -71,9 +71,15 @@ inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const MomentC
   const PosedTexel w = pose(t, r, offset);
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);  // 0 when the patch is dry
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
-  if (correction)
-    sums.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r),
-                             detail::correctionWeight(depth, halfSpan, correction->reach), depth, 0.0, 0.0, 0.0);
+  if (correction) {
+    // Only dm(:, 1) = R dM r1 is read under a plane (WettedSums::addFlatMomentCorrection).
+    const Eigen::Vector3d r1 = r.row(1).transpose();
+    Eigen::Vector3d bodyColumn;
+    for (int i = 0; i < 3; ++i)
+      bodyColumn[i] = correction->moment[i][0] * r1.x() + correction->moment[i][1] * r1.y() + correction->moment[i][2] * r1.z();
+    sums.addFlatMomentCorrection(w.x, w.y, w.z, r * bodyColumn, detail::correctionWeight(depth, halfSpan, correction->reach),
+                                 depth);
+  }
 }
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
