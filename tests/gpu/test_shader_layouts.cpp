@@ -117,7 +117,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 14);
+  CHECK(shader.size() == 15);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -133,7 +133,13 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   checkLayout(shader, "Chunk", sizeof(Chunk),
               {HYDROTEX_MEMBER(Chunk, body), HYDROTEX_MEMBER(Chunk, begin), HYDROTEX_MEMBER(Chunk, count),
                HYDROTEX_MEMBER(Chunk, centerX), HYDROTEX_MEMBER(Chunk, centerY), HYDROTEX_MEMBER(Chunk, centerZ),
-               HYDROTEX_MEMBER(Chunk, halfX), HYDROTEX_MEMBER(Chunk, halfY), HYDROTEX_MEMBER(Chunk, halfZ)});
+               HYDROTEX_MEMBER(Chunk, halfX), HYDROTEX_MEMBER(Chunk, halfY), HYDROTEX_MEMBER(Chunk, halfZ),
+               HYDROTEX_MEMBER(Chunk, correctionBegin), HYDROTEX_MEMBER(Chunk, correctionCount)});
+  using layout::TexelCorrection;
+  checkLayout(shader, "TexelCorrection", sizeof(TexelCorrection),
+              {HYDROTEX_MEMBER(TexelCorrection, texel), HYDROTEX_MEMBER(TexelCorrection, moment),
+               HYDROTEX_MEMBER(TexelCorrection, reach)});
+  CHECK(sizeof(TexelCorrection) == 44);
   using layout::BodyPose;
   checkLayout(shader, "BodyPose", sizeof(BodyPose),
               {HYDROTEX_MEMBER(BodyPose, row0), HYDROTEX_MEMBER(BodyPose, row1), HYDROTEX_MEMBER(BodyPose, row2)});
