@@ -14,7 +14,7 @@ layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
-layout(std430, binding = 8) readonly buffer Corrections { TexelCorrection corrections[]; };
+layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 
 uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
 

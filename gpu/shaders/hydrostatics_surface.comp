@@ -21,14 +21,14 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Texels { HydroTexel texels[]; };
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
+// Per chunk: `partials` at chunkIndex, `headPartials` at headBase + chunkIndex (one buffer, so
+// that the shader stays within GL 4.3's guaranteed 8 storage blocks, bindings 0..7).
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
-layout(std430, binding = 4) writeonly buffer HeadPartials { Partial headPartials[]; };
+layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
-// Binding 8: one past GL 4.3's guaranteed 8 storage blocks per compute shader; every driver the
-// backend runs on (Mesa, NVIDIA) has 16 or more.
-layout(std430, binding = 8) readonly buffer Corrections { TexelCorrection corrections[]; };
 
 uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
+uniform uint headBase;  // where the pressure-head partials start in Partials
 
 #if defined(SURFACE_GERSTNER)
 layout(std430, binding = 5) readonly buffer Waves { GerstnerComponent waves[]; };
@@ -261,6 +261,6 @@ void main() {
     }
     for (int k = 0; k < kSums; ++k) partials[chunkIndex].value[k] = total[k];
     partials[chunkIndex].value[11] = 0.0;
-    for (int k = 0; k < 12; ++k) headPartials[chunkIndex].value[k] = k < kHeads ? total[kSums + k] : 0.0;
+    for (int k = 0; k < 12; ++k) partials[headBase + chunkIndex].value[k] = k < kHeads ? total[kSums + k] : 0.0;
   }
 }

@@ -632,12 +632,15 @@ class GlBackend final : public ComputeBackend {
     bool massPending = false;        // its mass block sums wait on the GPU
   };
   struct Tables {
-    GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
+    GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, results;
+    // Per chunk: its float Partial at the chunk's index, then (from headBase(), per hydro chunk)
+    // the pressure-head sums of hydrostatics_surface.comp; one buffer, so that the texel passes
+    // stay within GL 4.3's guaranteed 8 storage blocks per shader (bindings 0..7).
+    GlBuffer partials;
     GlBuffer chunkMoments;  // per hydro chunk
     GlBuffer corrections;   // TexelCorrection, each hydro chunk's range (Chunk::correctionBegin)
     GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per segment
     GlBuffer counters;      // per segment: SegmentCounters
-    GlBuffer headPartials;  // per hydro chunk: the pressure-head sums of hydrostatics_surface.comp
     GlBuffer headResults;   // per body: their double sums
     GlBuffer dryLevels;     // per body: the surface's highest point in its frame (non-flat surfaces)
     GlBuffer surfaceData;   // binding 5 of hydrostatics_surface.comp (waves or grid samples), grown on demand
@@ -1081,10 +1084,10 @@ class GlBackend final : public ComputeBackend {
     tables_.crossing.bind(6);
     tables_.counters.bind(7);
     tables_.dryLevels.bind(0);
-    tables_.headPartials.bind(4);
-    tables_.corrections.bind(8);
+    tables_.corrections.bind(4);
     glUseProgram(programs_.classify.id());
     glUniform1i(programs_.classify.uniform("surfaceMode"), kind == SurfaceKind::Flat ? 0 : 1);
+    glUniform1ui(programs_.classify.uniform("headBase"), headBase());
     const GLint base = programs_.classify.uniform("chunkBase"), count = programs_.classify.uniform("chunkCount");
     const GLint segmentUniform = programs_.classify.uniform("segmentIndex"), listUniform = programs_.classify.uniform("listBase");
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
@@ -1109,6 +1112,7 @@ class GlBackend final : public ComputeBackend {
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tables_.counters.id());
     const GLint listBase = texelPass.uniform("listBase");
+    if (kind != SurfaceKind::Flat) glUniform1ui(texelPass.uniform("headBase"), headBase());
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
       const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
       if (std::max(first, segment.chunkBegin) >= std::min(last, segment.chunkEnd)) continue;
@@ -1184,8 +1188,7 @@ class GlBackend final : public ComputeBackend {
     for (const Body& body : bodies_)
       if (body.gpuDeformed) runDeformation(body);
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
-    tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
-    tables_.headPartials = GlBuffer(hydroChunks_.size() * sizeof(layout::Partial));
+    tables_.partials = GlBuffer((headBase() + hydroChunks_.size()) * sizeof(layout::Partial));
     tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     tables_.headResults = GlBuffer(bodies * sizeof(layout::BodySums));
@@ -1210,6 +1213,9 @@ class GlBackend final : public ComputeBackend {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
+
+  // Where the pressure-head partials start in tables_.partials (after every chunk's own partial).
+  std::uint32_t headBase() const { return std::uint32_t(std::max(hydroChunks_.size(), massChunks_.size())); }
 
   // The smallest range of bodies [low, high) holding every queried one.
   static std::pair<std::uint32_t, std::uint32_t> bodyWindow(std::span<const BackendHydrostaticsQuery> queries) {
@@ -1238,9 +1244,11 @@ class GlBackend final : public ComputeBackend {
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
       tables_.partials.bind(0);
       tables_.results.bind(3);
+      const GLint partialBase = programs_.reduce.uniform("partialBase");
+      glUniform1ui(partialBase, 0u);
       dispatchGroups(high - low);
       if (withHeads) {
-        tables_.headPartials.bind(0);
+        glUniform1ui(partialBase, headBase());
         tables_.headResults.bind(3);
         dispatchGroups(high - low);
       }
@@ -1254,8 +1262,9 @@ class GlBackend final : public ComputeBackend {
       glFlush();
       if (beforeReading != nullptr) beforeReading->run();
       const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
-      auto sumOnHost = [&](const GlBuffer& partials, std::vector<layout::BodySums>& out) {
-        partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
+      auto sumOnHost = [&](std::size_t base, std::vector<layout::BodySums>& out) {
+        tables_.partials.read((base + first) * sizeof(layout::Partial), partials_.data() + first,
+                              (last - first) * sizeof(layout::Partial));
         for (std::size_t b = low; b < high; ++b) {
           if (massMode && ranges[b].mode == 2) continue;
           double s[12] = {};
@@ -1278,8 +1287,8 @@ class GlBackend final : public ComputeBackend {
           std::copy(std::begin(s), std::end(s), out[b].value);
         }
       };
-      sumOnHost(tables_.partials, sums_);
-      if (withHeads) sumOnHost(tables_.headPartials, headSums_);
+      sumOnHost(0, sums_);
+      if (withHeads) sumOnHost(headBase(), headSums_);
     }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
       return Error{"gpu backend: OpenGL error " + std::to_string(error) + " in a compute pass"};

@@ -184,6 +184,26 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   checkLayout(shaderFp64, "BodySums", sizeof(layout::BodySums), {HYDROTEX_MEMBER(layout::BodySums, value)});
 }
 
+TEST_CASE("every shader storage block binds within GL 4.3's guaranteed 8 (bindings 0..7)", "[layout]") {
+  // GL 4.3 guarantees GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS and GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
+  // of at least 8 (OpenGL 4.3 spec, table 23.64): a binding past 7 may fail to link on a driver
+  // at that minimum. Variants under #if (hydrostatics_surface.comp) reuse a binding number.
+  const char* names[] = {"deform_mass.comp",          "deform_texel.glsl",       "deform_texels.comp",
+                         "deform_triangles.comp",     "flooding_texels.comp",    "hydrostatics_classify.comp",
+                         "hydrostatics_flat.comp",    "hydrostatics_surface.comp", "mass_moments.comp",
+                         "reduce_partials.comp",      "wet_shading_eval.comp",   "wetting_diffuse.comp",
+                         "wetting_exchange.comp",     "wetting_groups.comp",     "wetting_implicit.comp",
+                         "wetting_implicit_reduce.comp"};
+  const std::regex binding(R"(binding\s*=\s*(\d+))");
+  for (const char* name : names) {
+    const std::string text(hydrotex::gpu::embeddedShader(name));
+    INFO(name);
+    REQUIRE(!text.empty());
+    for (std::sregex_iterator it(text.begin(), text.end(), binding), end; it != end; ++it)
+      CHECK(std::stoi((*it)[1].str()) <= 7);
+  }
+}
+
 TEST_CASE("an unknown shader name gives an empty text", "[layout]") {
   CHECK(hydrotex::gpu::embeddedShader("missing.comp").empty());
   CHECK(hydrotex::gpu::embeddedShader("hydrostatics_flat.comp").find("void main()") != std::string_view::npos);
