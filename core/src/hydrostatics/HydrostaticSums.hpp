@@ -41,7 +41,7 @@ struct WettedSums {
 
   /// Adds one element (a texel patch or a triangle) at x' with area vector a (m^2), area |A|,
   /// submerged area fraction `frac`, D, Q (see the file comment) and local surface height h'.
-  inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
+  [[gnu::always_inline]] inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
                          double depth, double depthSq, double localHeight) {
     sumDA[0] += depth * ax;
     sumDA[1] += depth * ay;
@@ -148,7 +148,7 @@ struct WaterlineFractions {
 /// E[g(d - a U1 - b U2)] for U uniform on [-1/2, 1/2] equals the second difference of G (G'' = g)
 /// divided by a b (integrate the box twice); a or b near zero falls back to the 1-D and 0-D limits
 /// to avoid cancellation.
-inline WaterlineFractions waterlineFractions(double d, double a, double b) {
+[[gnu::always_inline]] inline WaterlineFractions waterlineFractions(double d, double a, double b) {
   a = std::abs(a);
   b = std::abs(b);
   if (a < b) std::swap(a, b);

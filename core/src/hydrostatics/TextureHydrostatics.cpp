@@ -61,8 +61,9 @@ inline Eigen::Matrix3d worldMoment(const MomentCorrection& c, const Eigen::Matri
 
 /// One texel under a flat surface at y' = 0 (depth of its centre d = -y'), with its moment
 /// correction (null: none).
-inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const MomentCorrection* correction,
-                         const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
+[[gnu::always_inline]] inline void addFlatTexel(detail::WettedSums& sums, const Texel& t,
+                                                const MomentCorrection* correction, const Eigen::Matrix3d& r,
+                                                const Eigen::Vector3d& offset) {
   double a, b;
   verticalEdges(t, r, a, b);
   const double depth = -(r(1, 0) * t.position[0] + r(1, 1) * t.position[1] + r(1, 2) * t.position[2] + offset.y());
@@ -530,6 +531,10 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
             if (low >= 0.0) continue;
             if (high <= 0.0) {
               under.add(tile.moments);
+              continue;
+            }
+            if (tile.correctionBegin == tile.correctionEnd) {  // one-piece texels only: no correction to look up
+              for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], nullptr, r, offset);
               continue;
             }
             std::uint32_t cursor = tile.correctionBegin;
