@@ -3,9 +3,9 @@
 // invocation). Each texel's PT, VAT, area and edges from its pieces and their triangles' frames
 // (core's SurfaceEvaluator::evaluate, the per-texel half, same float operations), written where
 // the hydrostatics pass reads it; then the chunk's bounds (as GlBackend's upload: p +- (|eU| +
-// |eV|) / 2, widened) and its pre-summed moments about the bounds centre (hydrostatics_classify);
-// and the chunk's share of the body's volume calibration (TexelVolumeCalibration: sum p A^T and
-// sum p . A, float partials summed in double on the host).
+// |eV|) / 2, widened), the moment corrections of its texels of several pieces (SurfaceEvaluator:
+// Sum_k (c_k - p) A_k^T, same float operations) and its pre-summed moments about the bounds centre,
+// corrections included (hydrostatics_classify).
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) writeonly buffer Texels { HydroTexel texels[]; };
@@ -13,7 +13,7 @@ layout(std430, binding = 1) buffer Chunks { Chunk chunks[]; };
 // Bindings 2 (frames), 3 (piece starts), 4 (pieces): deform_texel.glsl.
 layout(std430, binding = 5) writeonly buffer Moments { ChunkMoments moments[]; };
 layout(std430, binding = 6) readonly buffer ChunkFirst { uint chunkFirst[]; };  // per body chunk: first texel
-layout(std430, binding = 7) writeonly buffer Calibration { Partial calibration[]; };  // per body chunk
+layout(std430, binding = 7) buffer Corrections { TexelCorrection corrections[]; };
 
 uniform uint bodyChunkBegin;  // global index of the body's first chunk
 uniform uint chunkBase;       // body-local index of this dispatch's first chunk
@@ -69,6 +69,39 @@ void main() {
     low = min(low, p - reach);
     high = max(high, p + reach);
   }
+  // The moment corrections of the chunk's texels of several pieces (SurfaceEvaluator's float
+  // formula: Sum_k (c_k - p) A_k^T and the reach max |c_k - p|), written for the hydrostatics
+  // passes; the pieces lie within the reach of p, which the bounds take in.
+  vec3 correctionPosition[kPerInvocation];  // this lane's corrections: p and dM, for the moments
+  mat3 correctionMoment[kPerInvocation];
+  for (uint j = lane; j < chunk.correctionCount; j += kGroup) {
+    uint slot = chunk.correctionBegin + j;
+    uint texelInChunk = corrections[slot].texel;
+    uint texel = chunkFirst[bodyChunk] + texelInChunk;
+    vec3 p, a, eu, ev;
+    float area;
+    evaluateTexel(texel, p, a, area, eu, ev);
+    mat3 dm = mat3(0.0);  // column k: Sum_k (c_k - p) A_k[k]
+    float pieceReach = 0.0;
+    uint begin = pieceStart[texel], end = min(pieceStart[texel + 1u], pieceCount);
+    for (uint k = begin; k < end; ++k) {
+      DeformPiece piece = pieces[k];
+      if (piece.triangle >= triangleCount) continue;
+      float f[20] = frames[piece.triangle].value;
+      vec3 pieceCentroid = vec3(f[0], f[1], f[2]) + piece.centroidBary1 * vec3(f[3], f[4], f[5]) +
+                           piece.centroidBary2 * vec3(f[6], f[7], f[8]);
+      vec3 pieceAreaVector = piece.areaFraction * vec3(f[9], f[10], f[11]);
+      dm += outerProduct(pieceCentroid - p, pieceAreaVector);
+      pieceReach = max(pieceReach, length(pieceCentroid - p));
+    }
+    for (int row = 0; row < 3; ++row)
+      for (int k = 0; k < 3; ++k) corrections[slot].moment[3 * row + k] = dm[k][row];
+    corrections[slot].reach = pieceReach;
+    correctionPosition[j / kGroup] = p;
+    correctionMoment[j / kGroup] = dm;
+    low = min(low, p - vec3(pieceReach));
+    high = max(high, p + vec3(pieceReach));
+  }
 
   // Bounds, widened as GlBackend's upload widens them (float rounding of the centre and of the
   // classification's dot products).
@@ -86,8 +119,6 @@ void main() {
   // Moments about the centre: area, A, q A^T (9), q q^T A (18 of the 6 pairs).
   float m[32];
   for (int k = 0; k < 32; ++k) m[k] = 0.0;
-  float cal[12];
-  for (int k = 0; k < 12; ++k) cal[k] = 0.0;
   for (uint n = 0u; n < kPerInvocation; ++n) {
     vec3 q = pos[n] - center, a = area3[n];
     float pairs[6] = float[6](q.x * q.x, q.x * q.y, q.x * q.z, q.y * q.y, q.y * q.z, q.z * q.z);
@@ -96,9 +127,22 @@ void main() {
       m[1 + k] += a[k];
       for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += q[row] * a[k];
       for (int pair = 0; pair < 6; ++pair) m[13 + 3 * pair + k] += pairs[pair] * a[k];
-      for (int row = 0; row < 3; ++row) cal[3 * row + k] += pos[n][row] * a[k];
     }
-    cal[9] += dot(pos[n], a);
+  }
+  // This lane's corrections added to the moments as core's tiles add them: q A^T gains dM,
+  // q_i q_j A_k gains q_i dM_jk + dM_ik q_j.
+  for (uint j = lane; j < chunk.correctionCount; j += kGroup) {
+    vec3 q = correctionPosition[j / kGroup] - center;
+    for (int k = 0; k < 3; ++k) {
+      vec3 dmk = correctionMoment[j / kGroup][k];  // dM(:, k)
+      for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += dmk[row];
+      m[13 + 3 * 0 + k] += 2.0 * q.x * dmk.x;
+      m[13 + 3 * 1 + k] += q.x * dmk.y + dmk.x * q.y;
+      m[13 + 3 * 2 + k] += q.x * dmk.z + dmk.x * q.z;
+      m[13 + 3 * 3 + k] += 2.0 * q.y * dmk.y;
+      m[13 + 3 * 4 + k] += q.y * dmk.z + dmk.y * q.z;
+      m[13 + 3 * 5 + k] += 2.0 * q.z * dmk.z;
+    }
   }
   for (int k = 0; k < 32; ++k) reduction[k][lane] = m[k];
   reduceGroup(31, 0, 0);
@@ -112,13 +156,5 @@ void main() {
     chunks[chunkIndex].halfX = halfExtent.x;
     chunks[chunkIndex].halfY = halfExtent.y;
     chunks[chunkIndex].halfZ = halfExtent.z;
-  }
-  barrier();
-  for (int k = 0; k < 12; ++k) reduction[k][lane] = cal[k];
-  reduceGroup(10, 0, 0);
-  if (lane == 0u) {
-    float total[12];
-    for (int k = 0; k < 12; ++k) total[k] = k < 10 ? reduction[k][0] : 0.0;
-    calibration[bodyChunk].value = total;
   }
 }

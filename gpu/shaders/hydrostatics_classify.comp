@@ -12,18 +12,19 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
+// Per chunk: its partial at chunkIndex and (surfaceMode) its pressure-head partial at headBase + chunkIndex.
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 5) readonly buffer Moments { ChunkMoments moments[]; };
 layout(std430, binding = 6) writeonly buffer Crossing { uint crossing[]; };
 layout(std430, binding = 7) buffer Counters { SegmentCounters counters[]; };
 layout(std430, binding = 0) readonly buffer DryLevels { float dryLevels[]; };        // per body (surfaceMode)
-layout(std430, binding = 4) writeonly buffer HeadPartials { Partial headPartials[]; };  // per chunk (surfaceMode)
 
 uniform uint chunkBase;     // global index of this dispatch's first chunk
 uniform uint chunkCount;    // chunks in this dispatch
 uniform uint segmentIndex;  // the storage segment these chunks lie in
 uniform uint listBase;      // where the segment's crossing list starts in Crossing
 uniform bool surfaceMode;   // not a flat plane: see above
+uniform uint headBase;      // where the pressure-head partials start in Partials
 
 void main() {
   uint local = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
@@ -40,7 +41,7 @@ void main() {
   if (X.y - reachY >= dryLevel) {  // wholly above: adds nothing
     for (int k = 0; k < 12; ++k) partials[chunkIndex].value[k] = 0.0;
     if (surfaceMode)
-      for (int k = 0; k < 12; ++k) headPartials[chunkIndex].value[k] = 0.0;
+      for (int k = 0; k < 12; ++k) partials[headBase + chunkIndex].value[k] = 0.0;
     return;
   }
   if (surfaceMode || X.y + reachY > 0.0) {  // crosses the surface: texel by texel

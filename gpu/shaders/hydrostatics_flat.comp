@@ -4,7 +4,8 @@
 // chunk of up to 256 texels of one body (4 per invocation): each texel is the planar patch
 // p + s eU + t eV, weighted by the exact submerged fractions of that patch
 // (core/src/hydrostatics/HydrostaticSums.hpp, waterlineFractions; the same sums as TextureHydrostatics' flat
-// path; waterlineFractions in waterline.glsl), reduced in shared memory to one float Partial per
+// path; waterlineFractions in waterline.glsl), with the moment corrections of its texels of several
+// pieces (addMomentCorrection, waterline.glsl), reduced in shared memory to one float Partial per
 // chunk.
 layout(local_size_x = 64) in;
 
@@ -13,6 +14,7 @@ layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
+layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 
 uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
 
@@ -56,6 +58,23 @@ void main() {
     sums[8] += fay * x * z;
     sums[9] += fay * z * z;
     sums[10] += f.x * t.area;
+  }
+  // The chunk's texels of several pieces add their moment corrections, weighted by the submerged
+  // share of their pieces' span (correctionWeight).
+  for (uint j = gl_LocalInvocationID.x; j < chunk.correctionCount; j += kGroup) {
+    TexelCorrection c = corrections[chunk.correctionBegin + j];
+    HydroTexel t = texels[chunk.begin + c.texel];
+    vec3 p = vec3(t.px, t.py, t.pz);
+    float a = dot(row1, vec3(t.ux, t.uy, t.uz));
+    float b = dot(row1, vec3(t.vx, t.vy, t.vz));
+    float depth = -(dot(row1, p) + pose.row1.w);
+    float weight = correctionWeight(depth, 0.5 * (abs(a) + abs(b)), c.reach);
+    if (weight == 0.0) continue;  // every piece dry
+    float x = dot(pose.row0.xyz, p) + pose.row0.w;
+    float z = dot(pose.row2.xyz, p) + pose.row2.w;
+    vec3 d0, d1, d2;
+    worldMoment(c, pose.row0.xyz, row1, pose.row2.xyz, d0, d1, d2);
+    addMomentCorrection(sums, d0, d1, d2, x, -depth, z, weight, depth, 0.0, vec2(0.0));
   }
 
   uint lane = gl_LocalInvocationID.x;

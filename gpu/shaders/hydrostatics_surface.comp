@@ -21,11 +21,14 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Texels { HydroTexel texels[]; };
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };
 layout(std430, binding = 2) readonly buffer Poses { BodyPose poses[]; };
+// Per chunk: `partials` at chunkIndex, `headPartials` at headBase + chunkIndex (one buffer, so
+// that the shader stays within GL 4.3's guaranteed 8 storage blocks, bindings 0..7).
 layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
-layout(std430, binding = 4) writeonly buffer HeadPartials { Partial headPartials[]; };
+layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
 
 uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
+uniform uint headBase;  // where the pressure-head partials start in Partials
 
 #if defined(SURFACE_GERSTNER)
 layout(std430, binding = 5) readonly buffer Waves { GerstnerComponent waves[]; };
@@ -59,12 +62,15 @@ shared float reduction[kSums + kHeads][kGroup];
 // 1e-9 m, a height error of at most sum(k A) times that.
 float dryLevelOf(uint body) { return bodyWaves[body * (waveCount + 2u) + 1u]; }
 
-float surfaceHeightAt(float x, float z, uint body) {
+// `slope` (d h / dx, d h / dz) from the same iterate: the height's gradient in the rest point
+// through the inverse of the (symmetric) Jacobian of x0 -> x, as GerstnerWaves::heightJet.
+float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
   uint base = body * (waveCount + 2u);
   float tolerance = 1.0e-6 * (abs(x) + abs(z) + horizontalSum) + 1.0e-12;
   float x0 = x, z0 = z, height = 0.0;
+  slope = vec2(0.0);
   for (int iteration = 0; iteration < 24; ++iteration) {
-    float hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0;
+    float hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0;
     height = 0.0;
     for (uint w = 0u; w < waveCount; ++w) {
       GerstnerComponent c = waves[w];
@@ -73,13 +79,16 @@ float surfaceHeightAt(float x, float z, uint body) {
       hx -= c.horizontal * sine * c.dirX;
       hz -= c.horizontal * sine * c.dirZ;
       height += c.amplitude * cosine;
-      float slope = c.horizontal * c.waveNumber * cosine;
-      jxx -= slope * c.dirX * c.dirX;
-      jxz -= slope * c.dirX * c.dirZ;
-      jzz -= slope * c.dirZ * c.dirZ;
+      gx -= c.amplitude * c.waveNumber * sine * c.dirX;
+      gz -= c.amplitude * c.waveNumber * sine * c.dirZ;
+      float steepness = c.horizontal * c.waveNumber * cosine;
+      jxx -= steepness * c.dirX * c.dirX;
+      jxz -= steepness * c.dirX * c.dirZ;
+      jzz -= steepness * c.dirZ * c.dirZ;
     }
     float rx = x0 + hx - x, rz = z0 + hz - z;
     float determinant = jxx * jzz - jxz * jxz;
+    if (determinant != 0.0) slope = vec2(jzz * gx - jxz * gz, jxx * gz - jxz * gx) / determinant;
     float stepX = rx, stepZ = rz;
     if (determinant > 0.1) {
       stepX = (jzz * rx - jxz * rz) / determinant;
@@ -97,7 +106,9 @@ float surfaceHeightAt(float x, float z, uint body) {
 // clamps it.
 float dryLevelOf(uint body) { return frames[body].dryLevel; }
 
-float surfaceHeightAt(float x, float z, uint body) {
+// `slope`: 0, as on the CPU (HeightGrid gives no height jets).
+float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
+  slope = vec2(0.0);
   GridFrame frame = frames[body];
   float gx = x * inverseSpacing + frame.fracX, gz = z * inverseSpacing + frame.fracZ;
   float cellX = floor(gx), cellZ = floor(gz);
@@ -154,7 +165,8 @@ void main() {
     float halfSpan = 0.5 * (abs(ea) + abs(eb));
     // Wholly above the surface's highest point: dry without the surface's look-up (as the CPU).
     if (y - halfSpan >= dryLevelOf(chunk.body)) continue;
-    float localHeight = surfaceHeightAt(x, z, chunk.body);
+    vec2 unusedSlope;
+    float localHeight = surfaceHeightAt(x, z, chunk.body, unusedSlope);
     float depth = localHeight - y;
     if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
     vec3 f = waterlineFractions(depth, ea, eb);
@@ -180,6 +192,54 @@ void main() {
     heads[4] += head * (z * a.x - x * a.z);
     heads[5] += head * (x * a.y - y * a.x);
   }
+  // The chunk's texels of several pieces add their moment corrections (waterline.glsl), weighted
+  // by the submerged share of their pieces' span (correctionWeight); the head's share is its first-order term too, with the head e at the centre and
+  // grad e = (slope.x, -1, slope.y) under a free surface (e = D), (0, e', 0) with
+  // e' = -exp(-y'/H) in a medium.
+  for (uint j = gl_LocalInvocationID.x; j < chunk.correctionCount; j += kGroup) {
+    TexelCorrection c = corrections[chunk.correctionBegin + j];
+    HydroTexel t = texels[chunk.begin + c.texel];
+    vec3 p = vec3(t.px, t.py, t.pz);
+    float x = dot(row0, p) + pose.row0.w;
+    float y = dot(row1, p) + pose.row1.w;
+    float z = dot(row2, p) + pose.row2.w;
+#if defined(SURFACE_MEDIUM)
+    float weight = 1.0;
+    float depth = -y;
+    float localHeight = 0.0;
+    vec2 slope = vec2(0.0);
+    float head = mediumHead(y);
+    vec3 gradient = vec3(0.0, -1.0 - head * inverseScaleHeight, 0.0);  // e' = -exp(-y/H) = -(1 + e/H)
+#else
+    float ea = dot(row1, vec3(t.ux, t.uy, t.uz));
+    float eb = dot(row1, vec3(t.vx, t.vy, t.vz));
+    float halfSpan = 0.5 * (abs(ea) + abs(eb));
+    float span = max(halfSpan, c.reach);  // the pieces may reach beyond the patch
+    if (y - span >= dryLevelOf(chunk.body)) continue;
+    vec2 slope;
+    float localHeight = surfaceHeightAt(x, z, chunk.body, slope);
+    float depth = localHeight - y;
+    if (!(depth > -span)) continue;
+    float weight = correctionWeight(depth, halfSpan, c.reach);
+    float head = depth;
+    vec3 gradient = vec3(slope.x, -1.0, slope.y);
+#endif
+    vec3 d0, d1, d2;
+    worldMoment(c, row0, row1, row2, d0, d1, d2);
+    addMomentCorrection(sums, d0, d1, d2, x, y, z, weight, depth, localHeight, slope);
+    // grad e . dM'(:, k) over k, then moment(i, k) = e dM'(i, k) + x_i grad e . dM'(:, k); the
+    // torque's components of its x_i A_k.
+    vec3 along = gradient.x * d0 + gradient.y * d1 + gradient.z * d2;
+    vec3 m0 = head * d0 + x * along;
+    vec3 m1 = head * d1 + y * along;
+    vec3 m2 = head * d2 + z * along;
+    heads[0] += weight * along.x;
+    heads[1] += weight * along.y;
+    heads[2] += weight * along.z;
+    heads[3] += weight * (m1.z - m2.y);
+    heads[4] += weight * (m2.x - m0.z);
+    heads[5] += weight * (m0.y - m1.x);
+  }
 
   uint lane = gl_LocalInvocationID.x;
   for (int k = 0; k < kSums; ++k) reduction[k][lane] = sums[k];
@@ -201,6 +261,6 @@ void main() {
     }
     for (int k = 0; k < kSums; ++k) partials[chunkIndex].value[k] = total[k];
     partials[chunkIndex].value[11] = 0.0;
-    for (int k = 0; k < 12; ++k) headPartials[chunkIndex].value[k] = k < kHeads ? total[kSums + k] : 0.0;
+    for (int k = 0; k < 12; ++k) partials[headBase + chunkIndex].value[k] = k < kHeads ? total[kSums + k] : 0.0;
   }
 }

@@ -39,6 +39,17 @@ struct Chunk {
   float halfX;
   float halfY;
   float halfZ;
+  uint correctionBegin;
+  uint correctionCount;
+};
+
+// The moment correction of a texel of several pieces (core's SurfaceTextures::momentCorrection):
+// Sum_k c_k A_k^T - p A^T (m^3, body frame), row-major [3 i + k], and momentReach (m); `texel` is
+// its index within its chunk. A chunk's are correctionCount entries from correctionBegin.
+struct TexelCorrection {
+  uint texel;
+  float moment[9];
+  float reach;
 };
 
 // A body's pose for this step: rows of the rotation, w = the offset of the body origin from the

@@ -12,6 +12,7 @@ layout(std430, binding = 3) writeonly buffer Results { BodySums results[]; };
 uniform uint bodyBase;   // first body of this dispatch
 uniform uint bodyCount;  // bodies in this dispatch
 uniform bool massMode;
+uniform uint partialBase;  // where this dispatch's partials start in Partials (the pressure heads' region or 0)
 
 const uint kGroup = 64u;
 shared double reduction[12][kGroup];
@@ -28,7 +29,7 @@ void main() {
   if (massMode) s[10] = 3.0e38LF;
   for (uint c = range.chunkBegin + lane; c < range.chunkEnd; c += kGroup) {
     if (!massMode) {
-      for (int k = 0; k < 11; ++k) s[k] += double(partials[c].value[k]);
+      for (int k = 0; k < 11; ++k) s[k] += double(partials[partialBase + c].value[k]);
       continue;
     }
     BlockGeometry block = blocks[c];

@@ -229,16 +229,26 @@ class GlBackend final : public ComputeBackend {
     body.referencePoint = referencePoint;
     const auto id = static_cast<std::uint32_t>(bodies_.size());
     body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
+    body.correctionBegin = hydroCorrections_.size();
+    std::size_t corrected = 0;  // the textures' moment corrections placed so far (ascending texels)
     for (const auto& [first, chunkCount] : hydroChunkRuns(bake)) {
       layout::Chunk chunk{};
       chunk.body = id;
       chunk.count = chunkCount;
       chunk.begin = hydroStorage_.place(static_cast<std::uint32_t>(hydroChunks_.size()), chunk.count);
+      // The chunk's texels of several pieces: their corrections, in one range (values: uploadSurface).
+      chunk.correctionBegin = static_cast<std::uint32_t>(hydroCorrections_.size());
+      while (corrected < textures.momentTexel.size() && textures.momentTexel[corrected] < first + chunkCount) {
+        hydroCorrections_.push_back(layout::TexelCorrection{textures.momentTexel[corrected] - first, {}, 0.0f});
+        ++corrected;
+      }
+      chunk.correctionCount = static_cast<std::uint32_t>(hydroCorrections_.size()) - chunk.correctionBegin;
       hydroChunks_.push_back(chunk);
       hydroChunkFirst_.push_back(first);
       hydroMoments_.push_back(layout::ChunkMoments{});
     }
     body.hydroChunkEnd = static_cast<std::uint32_t>(hydroChunks_.size());
+    body.correctionEnd = hydroCorrections_.size();
     body.massChunkBegin = static_cast<std::uint32_t>(massChunks_.size());
     for (std::size_t first = 0; first < count; first += kMassChunkTexels) {
       layout::Chunk chunk{};
@@ -258,10 +268,15 @@ class GlBackend final : public ComputeBackend {
   Status updateSurface(BackendBodyId id, const SurfaceTextures& textures) override {
     if (id >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(id)};
     if (Status s = checkTextures(textures, bodies_[id].texelCount); !s) return s;
+    // The same bake names the same texels of several pieces (SurfaceTextures::momentTexel).
+    if (textures.momentCorrection.size() != bodies_[id].correctionEnd - bodies_[id].correctionBegin)
+      return Error{"gpu backend: surface textures hold " + std::to_string(textures.momentCorrection.size()) +
+                   " moment corrections, body " + std::to_string(id) + " has " +
+                   std::to_string(bodies_[id].correctionEnd - bodies_[id].correctionBegin)};
     if (Status s = context_->makeCurrent(); !s) return s;
     uploadSurface(bodies_[id], textures);
     bodies_[id].gpuDeformed = false;  // the host's textures are the body's again
-    bodies_[id].calibrationPending = bodies_[id].massPending = false;
+    bodies_[id].momentsPending = bodies_[id].massPending = false;
     tablesDirty_ = true;
     return Ok{};
   }
@@ -331,7 +346,6 @@ class GlBackend final : public ComputeBackend {
     deform->pieces = upload(pieces);
     deform->chunkFirst = upload(chunkFirst);
     deform->frames = GlBuffer(triangleCount * sizeof(layout::TriangleFrame));
-    deform->calibration = GlBuffer(runs.size() * sizeof(layout::Partial));
     deform->massBlocks = GlBuffer((body.massChunkEnd - body.massChunkBegin) * sizeof(layout::MassBlock));
     deform->vertices = GlBuffer(mesh.positions.size() * 3 * sizeof(float));
     deform->triangleCount = std::uint32_t(triangleCount);
@@ -358,7 +372,7 @@ class GlBackend final : public ComputeBackend {
     if (Status s = context_->makeCurrent(); !s) return s;
     body.deformation->vertices.write(0, packed.data(), packed.size() * sizeof(float));
     body.gpuDeformed = true;
-    body.calibrationPending = true;
+    body.momentsPending = true;
     body.massPending = true;
     if (!tablesDirty_) runDeformation(body);  // else ensureTables runs it on the fresh tables
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
@@ -392,6 +406,19 @@ class GlBackend final : public ComputeBackend {
         out.area[i] = t.area;
         out.edgeU[i] = Eigen::Vector3f(t.ux, t.uy, t.uz);
         out.edgeV[i] = Eigen::Vector3f(t.vx, t.vy, t.vz);
+      }
+    }
+    std::vector<layout::TexelCorrection> corrections(body.correctionEnd - body.correctionBegin);
+    if (!corrections.empty())
+      tables_.corrections.read(body.correctionBegin * sizeof(layout::TexelCorrection), corrections.data(),
+                               corrections.size() * sizeof(layout::TexelCorrection));
+    for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
+      const layout::Chunk& chunk = hydroChunks_[c];
+      for (std::uint32_t k = 0; k < chunk.correctionCount; ++k) {
+        const layout::TexelCorrection& correction = corrections[chunk.correctionBegin - body.correctionBegin + k];
+        out.momentTexel.push_back(hydroChunkFirst_[c] + correction.texel);
+        out.momentCorrection.push_back(Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(correction.moment));
+        out.momentReach.push_back(correction.reach);
       }
     }
     return out;
@@ -441,7 +468,7 @@ class GlBackend final : public ComputeBackend {
     if (Status s = context_->makeCurrent(); !s) return s;
     ensureTables();
     for (const BackendHydrostaticsQuery& q : queries)
-      if (bodies_[q.body].calibrationPending) readCalibration(bodies_[q.body]);
+      if (bodies_[q.body].momentsPending) readMoments(bodies_[q.body]);
 
     layout::BodyPose lifted{};
     lifted.row0[0] = lifted.row1[1] = lifted.row2[2] = 1.0f;
@@ -469,8 +496,7 @@ class GlBackend final : public ComputeBackend {
       const Body& body = bodies_[queries[i].body];
       const HydrostaticsQuery& q = queries[i].query;
       const double* v = sums_[queries[i].body].value;
-      const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10],
-                                  body.calibration.scale(q.pose.rotation)};
+      const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10]};
       if (*kind == SurfaceKind::Flat) {
         results[i] = finishFlatHydrostatics(wetted, origins_[i].y(), surface.density(), q);
         continue;
@@ -488,7 +514,7 @@ class GlBackend final : public ComputeBackend {
         const bool constant = std::isinf(medium.scaleHeight());
         const double c = constant ? 1.0 : std::exp(-(ty - medium.referenceHeight()) / medium.scaleHeight());
         const double base = constant ? medium.referenceHeight() - ty : medium.scaleHeight();
-        const Eigen::Matrix3d& pa = body.calibration.sumPA;
+        const Eigen::Matrix3d& pa = body.sumPA;
         const Eigen::Vector3d cross(pa(1, 2) - pa(2, 1), pa(2, 0) - pa(0, 2), pa(0, 1) - pa(1, 0));
         pressure.force = -rhoG * c * (base * (q.pose.rotation * body.sumA) + headForce);
         pressure.torque = -rhoG * c * (base * (q.pose.rotation * cross) + headTorque);
@@ -577,7 +603,7 @@ class GlBackend final : public ComputeBackend {
  private:
   // A body's GPU re-evaluation data (enableGpuDeformation): uploaded once, but the vertices.
   struct Deformation {
-    GlBuffer vertices, triangles, frames, pieceStart, pieces, chunkFirst, calibration;
+    GlBuffer vertices, triangles, frames, pieceStart, pieces, chunkFirst;
     GlBuffer massBlocks;  // per mass block: MassBlock (deform_mass.comp)
     std::uint32_t triangleCount = 0, vertexCount = 0, pieceCount = 0;
   };
@@ -591,22 +617,30 @@ class GlBackend final : public ComputeBackend {
     Eigen::Matrix3d shellSecond = Eigen::Matrix3d::Zero();
     // Lids over openings (Mesh.hpp), about the reference point: left out of the shell sums.
     OpeningMoments lids;
-    TexelVolumeCalibration calibration;
+    // Sum p A^T plus the moment corrections (m^3, body frame, double): V I for a closed surface up
+    // to float rounding; a medium's absolute pressure multiplies its antisymmetric part (as on
+    // the CPU, which sums the same terms texel by texel).
+    Eigen::Matrix3d sumPA = Eigen::Matrix3d::Zero();
+    std::size_t correctionBegin = 0, correctionEnd = 0;  // its entries of hydroCorrections_
     // Sum A (m^2, body frame, double): zero for a closed surface up to the texels' rounding, which
     // a medium's absolute pressure multiplies (as on the CPU). Zero for a GPU-deformed body.
     Eigen::Vector3d sumA = Eigen::Vector3d::Zero();
     std::uint64_t batch = 0;
     std::unique_ptr<Deformation> deformation;
     bool gpuDeformed = false;        // its texels on the GPU come from updateVertices, not the host
-    bool calibrationPending = false; // its calibration sums wait on the GPU
+    bool momentsPending = false;     // its chunk moments (for sumPA) wait on the GPU
     bool massPending = false;        // its mass block sums wait on the GPU
   };
   struct Tables {
-    GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, partials, results;
+    GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, results;
+    // Per chunk: its float Partial at the chunk's index, then (from headBase(), per hydro chunk)
+    // the pressure-head sums of hydrostatics_surface.comp; one buffer, so that the texel passes
+    // stay within GL 4.3's guaranteed 8 storage blocks per shader (bindings 0..7).
+    GlBuffer partials;
     GlBuffer chunkMoments;  // per hydro chunk
+    GlBuffer corrections;   // TexelCorrection, each hydro chunk's range (Chunk::correctionBegin)
     GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per segment
     GlBuffer counters;      // per segment: SegmentCounters
-    GlBuffer headPartials;  // per hydro chunk: the pressure-head sums of hydrostatics_surface.comp
     GlBuffer headResults;   // per body: their double sums
     GlBuffer dryLevels;     // per body: the surface's highest point in its frame (non-flat surfaces)
     GlBuffer surfaceData;   // binding 5 of hydrostatics_surface.comp (waves or grid samples), grown on demand
@@ -627,6 +661,18 @@ class GlBackend final : public ComputeBackend {
       if (!textures.position[i].allFinite() || !textures.areaVector[i].allFinite() || !textures.edgeU[i].allFinite() ||
           !textures.edgeV[i].allFinite() || !std::isfinite(textures.area[i]))
         return Error{"gpu backend: texel " + std::to_string(i) + " has a non-finite value"};
+    if (textures.momentCorrection.size() != textures.momentTexel.size() ||
+        textures.momentReach.size() != textures.momentTexel.size())
+      return Error{"gpu backend: " + std::to_string(textures.momentTexel.size()) + " corrected texels, " +
+                   std::to_string(textures.momentCorrection.size()) + " moment corrections"};
+    for (std::size_t c = 0; c < textures.momentTexel.size(); ++c) {
+      if (textures.momentTexel[c] >= count || (c > 0 && textures.momentTexel[c] <= textures.momentTexel[c - 1]))
+        return Error{"gpu backend: moment correction " + std::to_string(c) + " names texel " +
+                     std::to_string(textures.momentTexel[c]) + " (out of range or out of order)"};
+      if (!textures.momentCorrection[c].allFinite() || !(textures.momentReach[c] >= 0.0f) ||
+          !std::isfinite(textures.momentReach[c]))
+        return Error{"gpu backend: moment correction " + std::to_string(c) + " has a non-finite value"};
+    }
     return Ok{};
   }
 
@@ -634,8 +680,8 @@ class GlBackend final : public ComputeBackend {
   void uploadSurface(Body& body, const SurfaceTextures& textures) {
     std::vector<layout::HydroTexel> hydro(body.texelCount);
     std::vector<layout::MassTexel> mass(body.texelCount);
-    body.calibration = TexelVolumeCalibration::fromTextures(textures);
     body.totalVolume = body.shellArea = 0.0;
+    body.sumPA.setZero();
     body.sumA.setZero();
     body.shellFirst.setZero();
     body.shellSecond.setZero();
@@ -659,6 +705,7 @@ class GlBackend final : public ComputeBackend {
       block.absVolume += std::abs(volume);
       body.totalVolume += volume;
       body.sumA += a.cast<double>();
+      body.sumPA += p.cast<double>() * a.cast<double>().transpose();
       body.shellArea += area;
       body.shellFirst += area * d;
       body.shellSecond += area * (d * d.transpose() + covariance);
@@ -668,6 +715,14 @@ class GlBackend final : public ComputeBackend {
     body.shellArea -= body.lids.area;
     body.shellFirst -= body.lids.first;
     body.shellSecond -= body.lids.second;
+    for (std::size_t c = 0; c < body.correctionEnd - body.correctionBegin; ++c) {
+      const Eigen::Matrix3f& m = textures.momentCorrection[c];
+      layout::TexelCorrection& out = hydroCorrections_[body.correctionBegin + c];
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) out.moment[3 * i + k] = m(i, k);
+      out.reach = textures.momentReach[c];
+      body.sumPA += m.cast<double>();
+    }
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       layout::Chunk& chunk = hydroChunks_[c];
       const std::size_t first = hydroChunkFirst_[c];
@@ -680,6 +735,13 @@ class GlBackend final : public ComputeBackend {
         low = low.cwiseMin(p - reach);
         high = high.cwiseMax(p + reach);
       }
+      // A corrected texel's pieces lie within its reach of p (beyond its patch where they are far apart).
+      for (std::uint32_t k = 0; k < chunk.correctionCount; ++k) {
+        const layout::TexelCorrection& correction = hydroCorrections_[chunk.correctionBegin + k];
+        const Eigen::Vector3d p = textures.position[first + correction.texel].cast<double>();
+        low = low.cwiseMin(p - Eigen::Vector3d::Constant(correction.reach));
+        high = high.cwiseMax(p + Eigen::Vector3d::Constant(correction.reach));
+      }
       const Eigen::Vector3d center = 0.5 * (low + high);
       // Widened by float rounding of the centre and of the shader's dot products, so that the
       // culling never drops a texel the per-texel test would keep.
@@ -690,7 +752,7 @@ class GlBackend final : public ComputeBackend {
       chunk.halfX = float(half.x());
       chunk.halfY = float(half.y());
       chunk.halfZ = float(half.z());
-      hydroMoments_[c] = chunkMoments(textures, first, chunk.count,
+      hydroMoments_[c] = chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
                                       Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
       hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.write(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
@@ -719,7 +781,7 @@ class GlBackend final : public ComputeBackend {
   }
 
   // Runs a deforming body's two passes on its current vertices: triangle frames, then per chunk
-  // the texels, bounds, moments and calibration partials (deform_*.comp), one dispatch per segment.
+  // the texels, bounds, moment corrections and moments (deform_*.comp), one dispatch per segment.
   void runDeformation(const Body& body) {
     const Deformation& d = *body.deformation;
     glUseProgram(programs_.deformTriangles.id());
@@ -738,7 +800,7 @@ class GlBackend final : public ComputeBackend {
     d.pieces.bind(4);
     tables_.chunkMoments.bind(5);
     d.chunkFirst.bind(6);
-    d.calibration.bind(7);
+    tables_.corrections.bind(7);
     glUniform1ui(program.uniform("bodyChunkBegin"), body.hydroChunkBegin);
     glUniform1ui(program.uniform("triangleCount"), d.triangleCount);
     glUniform1ui(program.uniform("pieceCount"), d.pieceCount);
@@ -804,21 +866,25 @@ class GlBackend final : public ComputeBackend {
     body.massPending = false;
   }
 
-  // The body's volume calibration from its GPU partials (float per chunk, double over chunks).
-  void readCalibration(Body& body) {
-    std::vector<layout::Partial> partials(body.hydroChunkEnd - body.hydroChunkBegin);
-    body.deformation->calibration.read(0, partials.data(), partials.size() * sizeof(layout::Partial));
-    TexelVolumeCalibration calibration;
-    double triple = 0.0;
-    for (const layout::Partial& p : partials) {
+  // A GPU-deformed body's Sum p A^T with its corrections, from the chunk moments and centres the
+  // deformation pass wrote (float per chunk, double over chunks): Sum q A^T + c Sum A^T per chunk.
+  void readMoments(Body& body) {
+    const std::size_t count = body.hydroChunkEnd - body.hydroChunkBegin;
+    std::vector<layout::ChunkMoments> moments(count);
+    std::vector<layout::Chunk> chunks(count);
+    tables_.chunkMoments.read(body.hydroChunkBegin * sizeof(layout::ChunkMoments), moments.data(),
+                              count * sizeof(layout::ChunkMoments));
+    tables_.hydroChunks.read(body.hydroChunkBegin * sizeof(layout::Chunk), chunks.data(), count * sizeof(layout::Chunk));
+    body.sumPA.setZero();
+    for (std::size_t c = 0; c < count; ++c) {
+      const float* m = moments[c].value;
+      const Eigen::Vector3d center(chunks[c].centerX, chunks[c].centerY, chunks[c].centerZ);
+      const Eigen::Vector3d sumA(m[1], m[2], m[3]);
       for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) calibration.sumPA(i, k) += p.value[3 * i + k];
-      triple += p.value[9];
+        for (int k = 0; k < 3; ++k) body.sumPA(i, k) += double(m[4 + 3 * i + k]) + center[i] * sumA[k];
     }
-    calibration.enclosedVolume = triple / 3.0;
-    body.calibration = calibration;
     body.sumA.setZero();
-    body.calibrationPending = false;
+    body.momentsPending = false;
   }
 
   // The hydrostatics chunks of a bake as (first texel, count): its tiles (contiguous texel ranges)
@@ -851,13 +917,14 @@ class GlBackend final : public ComputeBackend {
     return runs;
   }
 
-  // The moments of texels [first, first + count) about `center` (double, then float): the sums
+  // The moments of the chunk's texels (from `first`) and their moment corrections (chunk's
+  // correctionCount from `corrections`) about `center` (double, then float): the sums
   // TextureHydrostatics keeps per tile, taken about the chunk's centre so that float holds them
   // to its rounding whatever the body frame's origin.
-  static layout::ChunkMoments chunkMoments(const SurfaceTextures& textures, std::size_t first, std::size_t count,
-                                           const Eigen::Vector3d& center) {
+  static layout::ChunkMoments chunkMoments(const SurfaceTextures& textures, std::size_t first, const layout::Chunk& chunk,
+                                           const layout::TexelCorrection* corrections, const Eigen::Vector3d& center) {
     double m[32] = {};
-    for (std::size_t i = first; i < first + count; ++i) {
+    for (std::size_t i = first; i < first + chunk.count; ++i) {
       const Eigen::Vector3d q = textures.position[i].cast<double>() - center;
       const Eigen::Vector3d a = textures.areaVector[i].cast<double>();
       const double pairs[6] = {q.x() * q.x(), q.x() * q.y(), q.x() * q.z(), q.y() * q.y(), q.y() * q.z(), q.z() * q.z()};
@@ -866,6 +933,19 @@ class GlBackend final : public ComputeBackend {
         m[1 + k] += a[k];
         for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += q[row] * a[k];
         for (int pair = 0; pair < 6; ++pair) m[13 + 3 * pair + k] += pairs[pair] * a[k];
+      }
+    }
+    // As core's tiles add them: q A^T gains dM, q_i q_j A_k gains q_i dM_jk + dM_ik q_j.
+    static constexpr int kPairs[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+    for (std::uint32_t c = 0; c < chunk.correctionCount; ++c) {
+      const layout::TexelCorrection& correction = corrections[c];
+      const Eigen::Vector3d q = textures.position[first + correction.texel].cast<double>() - center;
+      for (int k = 0; k < 3; ++k) {
+        for (int row = 0; row < 3; ++row) m[4 + 3 * row + k] += correction.moment[3 * row + k];
+        for (int pair = 0; pair < 6; ++pair) {
+          const int i = kPairs[pair][0], j = kPairs[pair][1];
+          m[13 + 3 * pair + k] += q[i] * correction.moment[3 * j + k] + correction.moment[3 * i + k] * q[j];
+        }
       }
     }
     layout::ChunkMoments out{};
@@ -1004,9 +1084,10 @@ class GlBackend final : public ComputeBackend {
     tables_.crossing.bind(6);
     tables_.counters.bind(7);
     tables_.dryLevels.bind(0);
-    tables_.headPartials.bind(4);
+    tables_.corrections.bind(4);
     glUseProgram(programs_.classify.id());
     glUniform1i(programs_.classify.uniform("surfaceMode"), kind == SurfaceKind::Flat ? 0 : 1);
+    glUniform1ui(programs_.classify.uniform("headBase"), headBase());
     const GLint base = programs_.classify.uniform("chunkBase"), count = programs_.classify.uniform("chunkCount");
     const GLint segmentUniform = programs_.classify.uniform("segmentIndex"), listUniform = programs_.classify.uniform("listBase");
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
@@ -1031,6 +1112,7 @@ class GlBackend final : public ComputeBackend {
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tables_.counters.id());
     const GLint listBase = texelPass.uniform("listBase");
+    if (kind != SurfaceKind::Flat) glUniform1ui(texelPass.uniform("headBase"), headBase());
     for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
       const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
       if (std::max(first, segment.chunkBegin) >= std::min(last, segment.chunkEnd)) continue;
@@ -1094,6 +1176,9 @@ class GlBackend final : public ComputeBackend {
     tables_.massRanges = upload(massRanges_);
     tables_.blocks = upload(blocks_);
     tables_.chunkMoments = upload(hydroMoments_);
+    // Never an empty buffer (a body whose texels each lie on one triangle has no correction).
+    if (hydroCorrections_.empty()) tables_.corrections = GlBuffer(sizeof(layout::TexelCorrection));
+    else tables_.corrections = upload(hydroCorrections_);
     tables_.crossing = GlBuffer(hydroChunks_.size() * sizeof(std::uint32_t));
     tables_.counters = GlBuffer(hydroStorage_.segments.size() * sizeof(layout::SegmentCounters));
     counters_.assign(hydroStorage_.segments.size(), layout::SegmentCounters{});
@@ -1103,8 +1188,7 @@ class GlBackend final : public ComputeBackend {
     for (const Body& body : bodies_)
       if (body.gpuDeformed) runDeformation(body);
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
-    tables_.partials = GlBuffer(std::max(hydroChunks_.size(), massChunks_.size()) * sizeof(layout::Partial));
-    tables_.headPartials = GlBuffer(hydroChunks_.size() * sizeof(layout::Partial));
+    tables_.partials = GlBuffer((headBase() + hydroChunks_.size()) * sizeof(layout::Partial));
     tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     tables_.headResults = GlBuffer(bodies * sizeof(layout::BodySums));
@@ -1129,6 +1213,9 @@ class GlBackend final : public ComputeBackend {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   }
+
+  // Where the pressure-head partials start in tables_.partials (after every chunk's own partial).
+  std::uint32_t headBase() const { return std::uint32_t(std::max(hydroChunks_.size(), massChunks_.size())); }
 
   // The smallest range of bodies [low, high) holding every queried one.
   static std::pair<std::uint32_t, std::uint32_t> bodyWindow(std::span<const BackendHydrostaticsQuery> queries) {
@@ -1157,9 +1244,11 @@ class GlBackend final : public ComputeBackend {
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
       tables_.partials.bind(0);
       tables_.results.bind(3);
+      const GLint partialBase = programs_.reduce.uniform("partialBase");
+      glUniform1ui(partialBase, 0u);
       dispatchGroups(high - low);
       if (withHeads) {
-        tables_.headPartials.bind(0);
+        glUniform1ui(partialBase, headBase());
         tables_.headResults.bind(3);
         dispatchGroups(high - low);
       }
@@ -1173,8 +1262,9 @@ class GlBackend final : public ComputeBackend {
       glFlush();
       if (beforeReading != nullptr) beforeReading->run();
       const std::uint32_t first = ranges[low].chunkBegin, last = ranges[high - 1].chunkEnd;
-      auto sumOnHost = [&](const GlBuffer& partials, std::vector<layout::BodySums>& out) {
-        partials.read(first * sizeof(layout::Partial), partials_.data() + first, (last - first) * sizeof(layout::Partial));
+      auto sumOnHost = [&](std::size_t base, std::vector<layout::BodySums>& out) {
+        tables_.partials.read((base + first) * sizeof(layout::Partial), partials_.data() + first,
+                              (last - first) * sizeof(layout::Partial));
         for (std::size_t b = low; b < high; ++b) {
           if (massMode && ranges[b].mode == 2) continue;
           double s[12] = {};
@@ -1197,8 +1287,8 @@ class GlBackend final : public ComputeBackend {
           std::copy(std::begin(s), std::end(s), out[b].value);
         }
       };
-      sumOnHost(tables_.partials, sums_);
-      if (withHeads) sumOnHost(tables_.headPartials, headSums_);
+      sumOnHost(0, sums_);
+      if (withHeads) sumOnHost(headBase(), headSums_);
     }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
       return Error{"gpu backend: OpenGL error " + std::to_string(error) + " in a compute pass"};
@@ -1212,6 +1302,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<layout::Chunk> hydroChunks_, massChunks_;
   std::vector<layout::BlockGeometry> blocks_;  // per mass chunk
   std::vector<layout::ChunkMoments> hydroMoments_;  // per hydro chunk
+  std::vector<layout::TexelCorrection> hydroCorrections_;  // per texel of several pieces, by hydro chunk
   std::vector<std::uint32_t> hydroChunkFirst_;      // per hydro chunk: its first texel in its body
   std::vector<layout::SegmentCounters> counters_;   // per hydro segment
   std::pair<std::uint32_t, std::uint32_t> lastWindow_{0, 0};

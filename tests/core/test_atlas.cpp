@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/mesh/Atlas.hpp"
 #include "hydrotex/mesh/MeshValidation.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -149,4 +150,45 @@ TEST_CASE("A curved mesh of 80k triangles gets an overlap-free atlas", "[atlas][
   torus.uv = {};
   const auto atlas = hydrotex::physicsAtlas(torus, hydrotex::validateMesh(torus));
   CHECK(checkGeneratedAtlas(torus, atlas) <= kDensityBound);
+}
+
+TEST_CASE("For a known bake resolution, no texel holds pieces of two charts", "[atlas][bake]") {
+  // A texel's pieces of two charts may lie on faces far apart (a box's floor and a side), which
+  // its one position cannot stand for where the waterline passes between them (the open hull's
+  // draft, test_open_hull). With the bake's texels per side, the gutter is more than a texel, so
+  // every texel's pieces lie on one face of the box: their triangles' normals agree (to rounding).
+  // (At 16 texels a side a texel gutter would shrink the six charts by more than a fifth, so the
+  // one-cell gutter stays there: generateAtlas.)
+  Mesh box = hydrotex::primitives::subdividedBox(Eigen::Vector3d(2.0, 0.5, 1.0), 4);
+  box.uv = {};
+  const auto report = hydrotex::validateMesh(box);
+  auto mixedTexels = [&](int atlasTexels, int bakeTexels) {
+    const auto atlas = hydrotex::physicsAtlas(box, report, atlasTexels);
+    checkGeneratedAtlas(box, atlas);
+    hydrotex::BakeSettings settings;
+    settings.width = settings.height = bakeTexels;
+    const auto bake = hydrotex::bakeSurface(box, atlas.layout, settings);
+    REQUIRE(bake);
+    auto normalOf = [&](std::uint32_t t) {
+      const auto& tri = box.triangles[t];
+      return Eigen::Vector3d((box.positions[tri[1]] - box.positions[tri[0]]).cross(box.positions[tri[2]] - box.positions[tri[0]]).normalized());
+    };
+    int mixed = 0;
+    for (std::size_t i = 0; i + 1 < bake->pieceStart.size(); ++i) {
+      const Eigen::Vector3d first = normalOf(bake->pieces[bake->pieceStart[i]].triangle);
+      for (std::uint32_t k = bake->pieceStart[i] + 1; k < bake->pieceStart[i + 1]; ++k)
+        if (normalOf(bake->pieces[k].triangle).dot(first) < 1.0 - 1e-9) {
+          ++mixed;
+          break;
+        }
+    }
+    return mixed;
+  };
+  for (int texels : {32, 64, 256}) {
+    CAPTURE(texels);
+    CHECK(mixedTexels(texels, texels) == 0);
+  }
+  // Without the resolution, the one-cell gutter lets texels of a coarse bake reach two charts:
+  // the case above is not vacuous.
+  CHECK(mixedTexels(0, 64) > 0);
 }

@@ -117,7 +117,7 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   REQUIRE(!layoutsFp64.empty());
   const auto shader = parseStructs(layouts);
   const auto shaderFp64 = parseStructs(layoutsFp64);
-  CHECK(shader.size() == 14);
+  CHECK(shader.size() == 15);
   CHECK(shaderFp64.size() == 2);
 
   using layout::HydroTexel;
@@ -133,7 +133,13 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
   checkLayout(shader, "Chunk", sizeof(Chunk),
               {HYDROTEX_MEMBER(Chunk, body), HYDROTEX_MEMBER(Chunk, begin), HYDROTEX_MEMBER(Chunk, count),
                HYDROTEX_MEMBER(Chunk, centerX), HYDROTEX_MEMBER(Chunk, centerY), HYDROTEX_MEMBER(Chunk, centerZ),
-               HYDROTEX_MEMBER(Chunk, halfX), HYDROTEX_MEMBER(Chunk, halfY), HYDROTEX_MEMBER(Chunk, halfZ)});
+               HYDROTEX_MEMBER(Chunk, halfX), HYDROTEX_MEMBER(Chunk, halfY), HYDROTEX_MEMBER(Chunk, halfZ),
+               HYDROTEX_MEMBER(Chunk, correctionBegin), HYDROTEX_MEMBER(Chunk, correctionCount)});
+  using layout::TexelCorrection;
+  checkLayout(shader, "TexelCorrection", sizeof(TexelCorrection),
+              {HYDROTEX_MEMBER(TexelCorrection, texel), HYDROTEX_MEMBER(TexelCorrection, moment),
+               HYDROTEX_MEMBER(TexelCorrection, reach)});
+  CHECK(sizeof(TexelCorrection) == 44);
   using layout::BodyPose;
   checkLayout(shader, "BodyPose", sizeof(BodyPose),
               {HYDROTEX_MEMBER(BodyPose, row0), HYDROTEX_MEMBER(BodyPose, row1), HYDROTEX_MEMBER(BodyPose, row2)});
@@ -176,6 +182,26 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
               {HYDROTEX_MEMBER(BlockGeometry, covariance), HYDROTEX_MEMBER(BlockGeometry, absVolume),
                HYDROTEX_MEMBER(BlockGeometry, unused)});
   checkLayout(shaderFp64, "BodySums", sizeof(layout::BodySums), {HYDROTEX_MEMBER(layout::BodySums, value)});
+}
+
+TEST_CASE("every shader storage block binds within GL 4.3's guaranteed 8 (bindings 0..7)", "[layout]") {
+  // GL 4.3 guarantees GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS and GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS
+  // of at least 8 (OpenGL 4.3 spec, table 23.64): a binding past 7 may fail to link on a driver
+  // at that minimum. Variants under #if (hydrostatics_surface.comp) reuse a binding number.
+  const char* names[] = {"deform_mass.comp",          "deform_texel.glsl",       "deform_texels.comp",
+                         "deform_triangles.comp",     "flooding_texels.comp",    "hydrostatics_classify.comp",
+                         "hydrostatics_flat.comp",    "hydrostatics_surface.comp", "mass_moments.comp",
+                         "reduce_partials.comp",      "wet_shading_eval.comp",   "wetting_diffuse.comp",
+                         "wetting_exchange.comp",     "wetting_groups.comp",     "wetting_implicit.comp",
+                         "wetting_implicit_reduce.comp"};
+  const std::regex binding(R"(binding\s*=\s*(\d+))");
+  for (const char* name : names) {
+    const std::string text(hydrotex::gpu::embeddedShader(name));
+    INFO(name);
+    REQUIRE(!text.empty());
+    for (std::sregex_iterator it(text.begin(), text.end(), binding), end; it != end; ++it)
+      CHECK(std::stoi((*it)[1].str()) <= 7);
+  }
 }
 
 TEST_CASE("an unknown shader name gives an empty text", "[layout]") {

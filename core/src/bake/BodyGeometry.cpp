@@ -3,6 +3,8 @@
 
 #include "hydrotex/mesh/MeshIO.hpp"
 
+#include <algorithm>
+
 namespace hydrotex {
 
 Expected<BodyGeometry> prepareBodyGeometry(Mesh mesh, const BodyGeometrySettings& settings) {
@@ -19,7 +21,7 @@ Expected<BodyGeometry> prepareBodyGeometry(Mesh mesh, const BodyGeometrySettings
     if (!body.report.outwardOriented)
       return Error{name + ": mesh is closed but oriented inwards (negative volume); flip its triangles"};
   }
-  body.atlas = physicsAtlas(mesh, body.report);
+  body.atlas = physicsAtlas(mesh, body.report, std::max(settings.bake.width, settings.bake.height));
   Expected<SurfaceBake> bake = bakeSurface(mesh, body.atlas.layout, settings.bake);
   if (!bake) return Error{name + ": " + bake.error().message};
   body.bake = std::move(bake).value();

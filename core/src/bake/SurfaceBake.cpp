@@ -289,12 +289,15 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
   const double texelU = bake.width > 0 ? 1.0 / bake.width : 0.0;
   const double texelV = bake.height > 0 ? 1.0 / bake.height : 0.0;
 
+  std::vector<Eigen::Vector3d> centroids;  // the current texel's pieces' (momentReach)
   for (std::size_t i = 0; i < covered; ++i) {
     Eigen::Vector3d areaVector = Eigen::Vector3d::Zero(), weightedCentroid = Eigen::Vector3d::Zero();
     Eigen::Vector3d edgeU = Eigen::Vector3d::Zero(), edgeV = Eigen::Vector3d::Zero();
     double area = 0.0, uvWeight = 0.0, flux = 0.0;  // flux: sum of centroid . piece area vector
     double openingArea = 0.0;
     Eigen::Vector3d openingAreaVector = Eigen::Vector3d::Zero(), openingWeighted = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d firstMoment = Eigen::Matrix3d::Zero();  // Sum c_k A_k^T over the pieces
+    centroids.clear();
     for (std::uint32_t k = bake.pieceStart[i]; k < bake.pieceStart[i + 1]; ++k) {
       const TexelPiece& piece = bake.pieces[k];
       if (piece.triangle >= triangleCount) continue;  // a bake of another mesh: skip, never crash
@@ -313,6 +316,8 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
       }
       weightedCentroid += pieceArea * centroid;
       flux += centroid.dot(pieceAreaVector);
+      firstMoment += centroid * pieceAreaVector.transpose();
+      centroids.push_back(centroid);
       const double pieceUv = fraction * f.uvArea;
       uvWeight += pieceUv;
       edgeU += pieceUv * f.dPdu;
@@ -329,6 +334,17 @@ SurfaceTextures evaluateSurface(const SurfaceBake& bake, const Mesh& mesh, const
     out.position[i] = position.cast<float>();
     out.areaVector[i] = areaVector.cast<float>();
     out.area[i] = static_cast<float>(area);
+    if (bake.pieceStart[i + 1] - bake.pieceStart[i] > 1) {
+      // What the one stored position leaves out of the pieces' first moment, against the stored
+      // (float) p and A, so that the texels' sums plus these are the pieces' own.
+      out.momentTexel.push_back(static_cast<std::uint32_t>(i));
+      const Eigen::Matrix3d stored = out.position[i].cast<double>() * out.areaVector[i].cast<double>().transpose();
+      out.momentCorrection.push_back((firstMoment - stored).cast<float>());
+      double reach = 0.0;
+      for (const Eigen::Vector3d& centroid : centroids)
+        reach = std::max(reach, (centroid - out.position[i].cast<double>()).norm());
+      out.momentReach.push_back(static_cast<float>(reach));
+    }
     if (!opening.empty()) {
       out.openingArea[i] = static_cast<float>(openingArea);
       out.openingAreaVector[i] = openingAreaVector.cast<float>();

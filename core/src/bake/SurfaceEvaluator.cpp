@@ -69,10 +69,15 @@ SurfaceEvaluator::SurfaceEvaluator(const SurfaceBake& bake, const UvLayout& layo
   }
   texelOrder_.resize(texelCount_);
   pieces_.resize(firstPiece);
+  correctionSlot_.assign(texelCount_, 0);
   for (std::size_t i = 0; i < texelCount_; ++i) {
     const std::uint32_t n = count[i];
     const std::size_t slot = nextTexel[n]++;
     texelOrder_[slot] = std::uint32_t(i);
+    if (n > 1) {  // SurfaceTextures::momentTexel: the texels of several pieces, ascending
+      correctionSlot_[slot] = std::uint32_t(momentTexel_.size());
+      momentTexel_.push_back(std::uint32_t(i));
+    }
     if (n == 0) continue;
     // The slot's pieces: the group's first piece plus n per texel before it in the group.
     const Group& group = *std::find_if(groups_.begin(), groups_.end(), [n](const Group& g) { return g.piecesPerTexel == n; });
@@ -114,11 +119,16 @@ void SurfaceEvaluator::evaluateGroup(const Group& group, std::uint32_t piecesPer
       // Sums over the pieces, w lanes: the area (a), zero (the others).
       Eigen::Array4f a = Eigen::Array4f::Zero(), weighted = Eigen::Array4f::Zero();
       Eigen::Array4f fluxTerms = Eigen::Array4f::Zero(), eu = Eigen::Array4f::Zero(), ev = Eigen::Array4f::Zero();
+      Eigen::Array4f centroids[Pieces > 0 ? Pieces : 1], pieceAreaVectors[Pieces > 0 ? Pieces : 1];
       for (std::uint32_t k = 0; k < n; ++k) {
         const Piece& p = piece[k];
         const TriangleFrame& f = frames[std::min(p.triangle, nullFrame)];  // zero frame: adds nothing
         const Eigen::Array4f pieceAreaVector = p.fraction * f.areaVector;
         const Eigen::Array4f centroid = f.p0 + p.bary1 * f.e1 + p.bary2 * f.e2;
+        if constexpr (Pieces > 0) {
+          centroids[k] = centroid;
+          pieceAreaVectors[k] = pieceAreaVector;
+        }
         a += pieceAreaVector;
         weighted += pieceAreaVector[3] * centroid;
         fluxTerms += centroid * pieceAreaVector;  // summed: centroid . piece area vector
@@ -141,6 +151,28 @@ void SurfaceEvaluator::evaluateGroup(const Group& group, std::uint32_t piecesPer
       out.area[i] = area;
       store(eu, out.edgeU[i]);
       store(ev, out.edgeV[i]);
+      if (n < 2) continue;  // a texel of no pieces (a malformed bake) has no entry
+      // SurfaceTextures::momentCorrection: Sum_k (c_k - p) A_k^T (A is the sum of the A_k), the
+      // differences first (they are of the texel's size, where c_k A_k^T - p A^T would cancel).
+      Eigen::Matrix3f correction = Eigen::Matrix3f::Zero();
+      float reach = 0.0f;  // SurfaceTextures::momentReach
+      for (std::uint32_t k = 0; k < n; ++k) {
+        Eigen::Array4f centroid, pieceAreaVector;
+        if constexpr (Pieces > 0) {
+          centroid = centroids[k];
+          pieceAreaVector = pieceAreaVectors[k];
+        } else {
+          const TriangleFrame& f = frames[std::min(piece[k].triangle, nullFrame)];
+          pieceAreaVector = piece[k].fraction * f.areaVector;
+          centroid = f.p0 + piece[k].bary1 * f.e1 + piece[k].bary2 * f.e2;
+        }
+        const Eigen::Vector3f pieceA = pieceAreaVector.head<3>().matrix();
+        const Eigen::Vector3f offset = centroid.head<3>().matrix() - position;
+        correction += offset * pieceA.transpose();
+        reach = std::max(reach, offset.norm());
+      }
+      out.momentReach[correctionSlot_[group.firstTexel + t]] = reach;
+      out.momentCorrection[correctionSlot_[group.firstTexel + t]] = correction;
     }
   }
 }
@@ -182,6 +214,9 @@ void SurfaceEvaluator::evaluate(const Mesh& mesh, SurfaceTextures& out) {
   out.area.resize(texelCount_);
   out.edgeU.resize(texelCount_);
   out.edgeV.resize(texelCount_);
+  if (out.momentTexel != momentTexel_) out.momentTexel = momentTexel_;
+  out.momentCorrection.resize(momentTexel_.size());
+  out.momentReach.resize(momentTexel_.size());
   const auto nullFrame = static_cast<std::uint32_t>(triangleCount);
   for (const Group& group : groups_) {
     switch (group.piecesPerTexel) {

@@ -16,7 +16,7 @@ struct PosedTexel {
   double x, y, z, ax, ay, az;
 };
 
-inline PosedTexel pose(const TextureHydrostatics::Texel& t, const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
+[[gnu::always_inline]] inline PosedTexel pose(const TextureHydrostatics::Texel& t, const Eigen::Matrix3d& r, const Eigen::Vector3d& offset) {
   const double px = t.position[0], py = t.position[1], pz = t.position[2];
   const double ax = t.areaVector[0], ay = t.areaVector[1], az = t.areaVector[2];
   return {r(0, 0) * px + r(0, 1) * py + r(0, 2) * pz + offset.x(),
@@ -28,7 +28,7 @@ inline PosedTexel pose(const TextureHydrostatics::Texel& t, const Eigen::Matrix3
 }
 
 /// Vertical extents of the texel's edges: a = eU'.y, b = eV'.y.
-inline void verticalEdges(const TextureHydrostatics::Texel& t, const Eigen::Matrix3d& r, double& a, double& b) {
+[[gnu::always_inline]] inline void verticalEdges(const TextureHydrostatics::Texel& t, const Eigen::Matrix3d& r, double& a, double& b) {
   a = r(1, 0) * t.edgeU[0] + r(1, 1) * t.edgeU[1] + r(1, 2) * t.edgeU[2];
   b = r(1, 0) * t.edgeV[0] + r(1, 1) * t.edgeV[1] + r(1, 2) * t.edgeV[2];
 }

@@ -157,6 +157,7 @@ std::size_t textureHydrostaticsBytes(const TextureHydrostatics& texture) {
   const std::size_t groupArea = std::size_t(std::max(1, texture.groupSize() * texture.groupSize()));
   const std::size_t tiles = texture.tileCount();
   return texture.texelCount() * sizeof(TextureHydrostatics::Texel) +
+         texture.correctionCount() * sizeof(TextureHydrostatics::MomentCorrection) +
          (tiles + (tiles + groupArea - 1) / groupArea) * sizeof(TextureHydrostatics::Tile);
 }
 

@@ -54,13 +54,11 @@ HydrostaticsResult finishHydrostatics(const WettedSums& sums, const Eigen::Vecto
                                       const HydrostaticsQuery& query, ForceModel forceModel, bool hasWaterplane) {
   HydrostaticsResult result;
   result.fluidDensity = density;
-  const double unscaledVolume = -sums.sumDA[1];
-  if (!(unscaledVolume > 0.0)) return result;  // out of the liquid (or a round-off sliver of it)
-  const double volume = sums.volumeScale * unscaledVolume;
+  const double volume = -sums.sumDA[1];
+  if (!(volume > 0.0)) return result;  // out of the liquid (or a round-off sliver of it)
 
   const double rhoG = density * query.gravity;
-  const Eigen::Vector3d buoyancyOffset(-sums.sumDXAy / unscaledVolume, sums.sumYB / unscaledVolume,
-                                       -sums.sumDZAy / unscaledVolume);
+  const Eigen::Vector3d buoyancyOffset(-sums.sumDXAy / volume, sums.sumYB / volume, -sums.sumDZAy / volume);
   result.submergedVolume = volume;
   result.centerOfBuoyancy = origin + buoyancyOffset;
 
@@ -69,10 +67,8 @@ HydrostaticsResult finishHydrostatics(const WettedSums& sums, const Eigen::Vecto
     result.buoyancyForce = Eigen::Vector3d(0.0, rhoG * volume, 0.0);
     torqueAboutFrameOrigin = buoyancyOffset.cross(result.buoyancyForce);
   } else {
-    result.buoyancyForce =
-        sums.volumeScale * Eigen::Vector3d(sums.pressureForce[0], sums.pressureForce[1], sums.pressureForce[2]);
-    torqueAboutFrameOrigin =
-        sums.volumeScale * Eigen::Vector3d(sums.pressureTorque[0], sums.pressureTorque[1], sums.pressureTorque[2]);
+    result.buoyancyForce = Eigen::Vector3d(sums.pressureForce[0], sums.pressureForce[1], sums.pressureForce[2]);
+    torqueAboutFrameOrigin = Eigen::Vector3d(sums.pressureTorque[0], sums.pressureTorque[1], sums.pressureTorque[2]);
   }
   const Eigen::Vector3d centerOfMass = query.pose.apply(query.centerOfMass);
   // Moving the moment point from o to c: tau_c = tau_o - (c - o) x F.

@@ -14,6 +14,7 @@
 /// part of each element under the surface.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -37,14 +38,10 @@ struct WettedSums {
   double wettedArea = 0;           ///< Sum frac |A| (m^2)
   double pressureForce[3] = {0, 0, 0};   ///< -Sum p A (N), only for non-flat surfaces
   double pressureTorque[3] = {0, 0, 0};  ///< -Sum x' x p A (N m), only for non-flat surfaces
-  /// Factor on the volume sums (volume, force, torque; not the water plane): the texture path
-  /// sets it to the body's exact enclosed volume over the same sums for the whole body at this
-  /// orientation (see TextureHydrostatics.cpp); 1 for the exact path.
-  double volumeScale = 1.0;
 
   /// Adds one element (a texel patch or a triangle) at x' with area vector a (m^2), area |A|,
   /// submerged area fraction `frac`, D, Q (see the file comment) and local surface height h'.
-  inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
+  [[gnu::always_inline]] inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
                          double depth, double depthSq, double localHeight) {
     sumDA[0] += depth * ax;
     sumDA[1] += depth * ay;
@@ -65,7 +62,56 @@ struct WettedSums {
     wettedArea += frac * area;
   }
 
-  /// Adds another set of sums (the same frame and volume scale).
+  /// Adds the part of one texel's sums that its single position leaves out when its pieces lie
+  /// on several triangles (SurfaceTextures::momentCorrection, here in the world frame:
+  /// dm = R dM R^T, m^3), times `weight` (correctionWeight, below). Each sum is Sum g(x) A_k over
+  /// the pieces for some g; with c_k = x' + d_k, Sum_k g(c_k) A_k = g(x') A + grad g(x') .
+  /// Sum_k d_k A_k + O(d^2) = g(x') A + grad g . dm(:, k): exact for the linear g (the volume and
+  /// force under a plane), first order in the texel size for the others. `depth` is the depth
+  /// D = h' - y' at the texel's centre, `localHeight` h' and (slopeX, slopeZ) the surface's
+  /// slope there (0 under a plane or where the surface gives no slope), so grad D =
+  /// (slopeX, -1, slopeZ) and grad (Q/2 - h' D) = grad (y'^2 - h'^2)/2 = y' e_y - h' grad h'.
+  inline void addMomentCorrection(double x, double y, double z, const Eigen::Matrix3d& dm, double weight,
+                                  double depth, double localHeight, double slopeX, double slopeZ) {
+    const double w = weight;
+    // grad D . dm(:, k)
+    const Eigen::Vector3d along = slopeX * dm.row(0) - dm.row(1) + slopeZ * dm.row(2);
+    for (int k = 0; k < 3; ++k) sumDA[k] += w * along[k];
+    // D x'_i A_k: grad = D e_i + x'_i grad D; the cross product's components.
+    const double position[3] = {x, y, z};
+    auto moment = [&](int i, int k) { return depth * dm(i, k) + position[i] * along[k]; };
+    sumDxA[0] += w * (moment(1, 2) - moment(2, 1));
+    sumDxA[1] += w * (moment(2, 0) - moment(0, 2));
+    sumDxA[2] += w * (moment(0, 1) - moment(1, 0));
+    sumDXAy += w * moment(0, 1);
+    sumDZAy += w * moment(2, 1);
+    sumYB += w * (y * dm(1, 1) - localHeight * (slopeX * dm(0, 1) + slopeZ * dm(2, 1)));
+    sumXAy += w * dm(0, 1);
+    sumZAy += w * dm(2, 1);
+    sumXXAy += w * 2.0 * x * dm(0, 1);
+    sumXZAy += w * (x * dm(2, 1) + z * dm(0, 1));
+    sumZZAy += w * 2.0 * z * dm(2, 1);
+  }
+
+  /// addMomentCorrection under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
+  /// result reads (finishHydrostatics with ForceModel::Archimedes), which need only the column
+  /// dm(:, 1) = `column` (m^3): sumDA[0], sumDA[2] and sumDxA are left as they are (a flat
+  /// surface's force and torque come from the volume and the centre of buoyancy).
+  inline void addFlatMomentCorrection(double x, double y, double z, const Eigen::Vector3d& column, double weight,
+                                      double depth) {
+    const double w = weight;
+    sumDA[1] -= w * column.y();
+    sumDXAy += w * (depth * column.x() - x * column.y());
+    sumDZAy += w * (depth * column.z() - z * column.y());
+    sumYB += w * y * column.y();
+    sumXAy += w * column.x();
+    sumZAy += w * column.z();
+    sumXXAy += w * 2.0 * x * column.x();
+    sumXZAy += w * (x * column.z() + z * column.x());
+    sumZZAy += w * 2.0 * z * column.z();
+  }
+
+  /// Adds another set of sums (the same frame).
   inline void add(const WettedSums& o) {
     for (int k = 0; k < 3; ++k) {
       sumDA[k] += o.sumDA[k];
@@ -102,7 +148,7 @@ struct WaterlineFractions {
 /// E[g(d - a U1 - b U2)] for U uniform on [-1/2, 1/2] equals the second difference of G (G'' = g)
 /// divided by a b (integrate the box twice); a or b near zero falls back to the 1-D and 0-D limits
 /// to avoid cancellation.
-inline WaterlineFractions waterlineFractions(double d, double a, double b) {
+[[gnu::always_inline]] inline WaterlineFractions waterlineFractions(double d, double a, double b) {
   a = std::abs(a);
   b = std::abs(b);
   if (a < b) std::swap(a, b);
@@ -140,6 +186,18 @@ inline WaterlineFractions waterlineFractions(double d, double a, double b) {
     meanSq = mean * mean;
   }
   return {frac, mean, meanSq - frac * variance};
+}
+
+/// The weight of a texel's moment correction (WettedSums::addMomentCorrection): the submerged
+/// share of the vertical segment y' +- s about its centre, `depth` d above it, s the larger of the
+/// patch's half span and the reach of its pieces' centroids: 1 when every piece is under, 0 when
+/// every one is over, linear between (exact for a lid and a bottom stacked in one texel of a
+/// packed atlas, where the patch's own fraction would count both or neither).
+inline double correctionWeight(double d, double halfSpan, double reach) {
+  const double s = std::max(halfSpan, reach);
+  if (d >= s) return 1.0;
+  if (d <= -s) return 0.0;
+  return 0.5 * (d + s) / s;
 }
 
 /// How the force and torque are formed.

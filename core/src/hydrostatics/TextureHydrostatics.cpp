@@ -3,7 +3,12 @@
 /// Hydrostatics as texel sums (paper section 2.3.1, generalised to pressure integration as in
 /// docs/design.md): each texel is the planar patch p + s eU + t eV, s, t in [-1/2, 1/2], and the part of
 /// it under the surface is weighted exactly for that patch (HydrostaticSums.hpp,
-/// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1).
+/// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1). A texel
+/// of pieces on several triangles adds its moment correction (SurfaceTextures::momentCorrection;
+/// WettedSums::addMomentCorrection) weighted by the submerged share of its pieces' span
+/// (correctionWeight): with it the volume and
+/// force of a wholly submerged body are the pieces' exact sums at every pose, with no per-pose
+/// factor; the first moments (centre of buoyancy, torque) stay second order in the texel size.
 
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
@@ -31,29 +36,60 @@ double enclosingRadius(const Tiles& tiles, const Parent& parent) {
 
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
+using MomentCorrection = TextureHydrostatics::MomentCorrection;
 
 using detail::PosedTexel;
 using detail::pose;
 using detail::verticalEdges;
 using detail::verticalRange;
 
-/// One texel under a flat surface at y' = 0 (depth of its centre d = -y').
-inline void addFlatTexel(detail::WettedSums& sums, const Texel& t, const Eigen::Matrix3d& r,
-                         const Eigen::Vector3d& offset) {
+/// The next correction of the range [cursor, end) when it belongs to packed texel `texel` (then
+/// the cursor moves past it), else null: the corrections are sorted by texel, so a loop over a
+/// tile's texels takes each texel's own with one comparison.
+inline const MomentCorrection* correctionOf(const std::vector<MomentCorrection>& corrections, std::uint32_t& cursor,
+                                            std::uint32_t end, std::uint32_t texel) {
+  return cursor < end && corrections[cursor].texel == texel ? &corrections[cursor++] : nullptr;
+}
+
+/// A texel's moment correction in the world frame: R dM R^T.
+inline Eigen::Matrix3d worldMoment(const MomentCorrection& c, const Eigen::Matrix3d& r) {
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) m(i, k) = c.moment[i][k];
+  return r * m * r.transpose();
+}
+
+/// One texel under a flat surface at y' = 0 (depth of its centre d = -y'), with its moment
+/// correction (null: none).
+[[gnu::always_inline]] inline void addFlatTexel(detail::WettedSums& sums, const Texel& t,
+                                                const MomentCorrection* correction, const Eigen::Matrix3d& r,
+                                                const Eigen::Vector3d& offset) {
   double a, b;
   verticalEdges(t, r, a, b);
   const double depth = -(r(1, 0) * t.position[0] + r(1, 1) * t.position[1] + r(1, 2) * t.position[2] + offset.y());
   const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
-  if (depth <= -halfSpan) return;  // dry
+  if (depth <= -(correction ? std::max(halfSpan, double(correction->reach)) : halfSpan)) return;  // dry
   const PosedTexel w = pose(t, r, offset);
-  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
+  const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);  // 0 when the patch is dry
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, t.area, f.area, f.depth, f.depthSq, 0.0);
+  if (correction) {
+    // Only dm(:, 1) = R dM r1 is read under a plane (WettedSums::addFlatMomentCorrection).
+    const Eigen::Vector3d r1 = r.row(1).transpose();
+    Eigen::Vector3d bodyColumn;
+    for (int i = 0; i < 3; ++i)
+      bodyColumn[i] = correction->moment[i][0] * r1.x() + correction->moment[i][1] * r1.y() + correction->moment[i][2] * r1.z();
+    sums.addFlatMomentCorrection(w.x, w.y, w.z, r * bodyColumn, detail::correctionWeight(depth, halfSpan, correction->reach),
+                                 depth);
+  }
 }
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
 /// o), with the texel taken as a patch under a locally level surface; pressure from the depth.
-inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const PosedTexel& w, double a, double b,
-                         double depth, double localHeight, double rhoG) {
+/// With its moment correction (null: none) and the surface's slope (slopeX, slopeZ) above it;
+/// p = rho g D, so its pressure sums are its depth sums times -rho g.
+inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const MomentCorrection* correction,
+                         const Eigen::Matrix3d& r, const PosedTexel& w, double a, double b, double depth,
+                         double localHeight, double slopeX, double slopeZ, double rhoG) {
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
   const double p = rhoG * f.depth;
@@ -64,22 +100,16 @@ inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const Pos
   sums.pressureTorque[0] += w.y * fz - w.z * fy;
   sums.pressureTorque[1] += w.z * fx - w.x * fz;
   sums.pressureTorque[2] += w.x * fy - w.y * fx;
-}
-
-/// Calibration of the volume sums: the enclosed volume (1/3) Sum p . A is exact from the texels
-/// (SurfaceTextures::position is shifted along the area vector for that), whereas the y-field sum
-/// Sum y' A'_y, which the waterline needs, takes each texel's centre as its quadrature point and is
-/// off by O(texel^2) (~1e-4 at 128^2) where a texel spans several triangles. That sum for the whole
-/// body at this orientation is O(1) from the moments; scaling every volume sum by the ratio makes a
-/// wholly submerged body exact and keeps the partly submerged volume continuous and monotonic in
-/// the water level (it is one factor per pose).
-double volumeScale(const Moments& m, double enclosedVolume, const Eigen::Matrix3d& r, double offsetY) {
-  double wholeBody = 0.0;  // Sum (r1 . p + offsetY) (r1 . A), r1 the rotation's y row
-  for (int i = 0; i < 3; ++i) {
-    wholeBody += offsetY * r(1, i) * m.sumA[i];
-    for (int k = 0; k < 3; ++k) wholeBody += r(1, i) * r(1, k) * m.sumPA[i][k];
+  if (!correction) return;
+  detail::WettedSums part;
+  part.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r),
+                           detail::correctionWeight(depth, 0.5 * (std::abs(a) + std::abs(b)), correction->reach), depth,
+                           localHeight, slopeX, slopeZ);
+  for (int k = 0; k < 3; ++k) {
+    part.pressureForce[k] = -rhoG * part.sumDA[k];
+    part.pressureTorque[k] = -rhoG * part.sumDxA[k];
   }
-  return wholeBody > 0.0 ? enclosedVolume / wholeBody : 1.0;
+  sums.add(part);
 }
 
 }  // namespace
@@ -167,6 +197,44 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
   out.width_ = bake.width;
   out.height_ = bake.height;
 
+  // The moment corrections, by packed texel (a tile's are then one contiguous range).
+  const std::size_t corrected = textures.momentTexel.size();
+  if (textures.momentCorrection.size() != corrected || textures.momentReach.size() != corrected)
+    return Error{"texture hydrostatics: " + std::to_string(corrected) + " corrected texels, " +
+                 std::to_string(textures.momentCorrection.size()) + " moment corrections"};
+  std::vector<std::uint32_t> packedOf(count);
+  for (std::size_t i = 0; i < count; ++i) packedOf[out.source_[i]] = std::uint32_t(i);
+  out.corrections_.resize(corrected);
+  out.correctionSource_.resize(corrected);
+  for (std::size_t c = 0; c < corrected; ++c) {
+    if (textures.momentTexel[c] >= count)
+      return Error{"texture hydrostatics: moment correction " + std::to_string(c) + " names texel " +
+                   std::to_string(textures.momentTexel[c]) + " of " + std::to_string(count)};
+    if (!textures.momentCorrection[c].allFinite() || !(textures.momentReach[c] >= 0.0f) ||
+        !std::isfinite(textures.momentReach[c]))
+      return Error{"texture hydrostatics: moment correction " + std::to_string(c) + " has a non-finite value"};
+    out.correctionSource_[c] = std::uint32_t(c);
+    out.corrections_[c].texel = packedOf[textures.momentTexel[c]];
+  }
+  std::vector<std::uint32_t> order(corrected);
+  for (std::size_t c = 0; c < corrected; ++c) order[c] = std::uint32_t(c);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t x, std::uint32_t y) { return out.corrections_[x].texel < out.corrections_[y].texel; });
+  {
+    std::vector<MomentCorrection> sorted(corrected);
+    std::vector<std::uint32_t> sortedSource(corrected);
+    for (std::size_t c = 0; c < corrected; ++c) {
+      sorted[c] = out.corrections_[order[c]];
+      sortedSource[c] = out.correctionSource_[order[c]];
+      if (c > 0 && sorted[c].texel == sorted[c - 1].texel)
+        return Error{"texture hydrostatics: texel " + std::to_string(textures.momentTexel[sortedSource[c]]) +
+                     " has two moment corrections"};
+    }
+    out.corrections_ = std::move(sorted);
+    out.correctionSource_ = std::move(sortedSource);
+  }
+  out.loadCorrections(textures);
+
   // Tiles and groups (texel and tile ranges); their moments and bounds come from refresh().
   std::size_t lastGroup = 0, lastBlock = 0;
   for (std::size_t t = 0; t + 1 < tileCount.size(); ++t) {
@@ -174,6 +242,11 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
     Tile tile;
     tile.begin = tileCount[t];
     tile.end = tileCount[t + 1];
+    auto byTexel = [](const MomentCorrection& c, std::uint32_t texel) { return c.texel < texel; };
+    tile.correctionBegin = std::uint32_t(
+        std::lower_bound(out.corrections_.begin(), out.corrections_.end(), tile.begin, byTexel) - out.corrections_.begin());
+    tile.correctionEnd = std::uint32_t(
+        std::lower_bound(out.corrections_.begin(), out.corrections_.end(), tile.end, byTexel) - out.corrections_.begin());
     // A new group starts at the first tile of another group index, a new block at the first
     // tile of another block (4 Morton codes) or group.
     const std::size_t group = t / tilesPerGroup, block = t / 4;
@@ -236,7 +309,29 @@ void addChunkMoments(Moments& m, const Texel* texels, std::uint32_t count) {
   }
 }
 
+// Adds a texel's moment correction dM to `m`: sumPA += dM, sumPPA_k(i, j) += p_i dM_jk + dM_ik p_j
+// (WettedSums::addMomentCorrection's terms, in the body frame).
+void addCorrectionMoments(Moments& m, const Texel& t, const MomentCorrection& c) {
+  static constexpr int kPairs[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};  // Moments::sumPPA order
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) m.sumPA[i][k] += c.moment[i][k];
+  for (int pair = 0; pair < 6; ++pair) {
+    const int i = kPairs[pair][0], j = kPairs[pair][1];
+    for (int k = 0; k < 3; ++k)
+      m.sumPPA[pair][k] += double(t.position[i]) * c.moment[j][k] + double(c.moment[i][k]) * t.position[j];
+  }
+}
+
 }  // namespace
+
+void TextureHydrostatics::loadCorrections(const SurfaceTextures& textures) {
+  for (std::size_t c = 0; c < corrections_.size(); ++c) {
+    const Eigen::Matrix3f& m = textures.momentCorrection[correctionSource_[c]];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) corrections_[c].moment[i][k] = m(i, k);
+    corrections_[c].reach = textures.momentReach[correctionSource_[c]];
+  }
+}
 
 void TextureHydrostatics::refresh() {
   Eigen::Vector3d bodyLow = Eigen::Vector3d::Constant(INFINITY), bodyHigh = Eigen::Vector3d::Constant(-INFINITY);
@@ -250,6 +345,8 @@ void TextureHydrostatics::refresh() {
       tile.moments = Moments{};
       for (std::uint32_t c = tile.begin; c < tile.end; c += kChunk)
         addChunkMoments(tile.moments, texels_.data() + c, std::min(kChunk, tile.end - c));
+      for (std::uint32_t c = tile.correctionBegin; c < tile.correctionEnd; ++c)
+        addCorrectionMoments(tile.moments, texels_[corrections_[c].texel], corrections_[c]);
       // Bounds in float (the texels are float), widened below by a few float ulps.
       float low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
       for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
@@ -259,6 +356,14 @@ void TextureHydrostatics::refresh() {
           const float reach = 0.5f * (std::fabs(texel.edgeU[c]) + std::fabs(texel.edgeV[c]));
           low[c] = std::min(low[c], texel.position[c] - reach);
           high[c] = std::max(high[c], texel.position[c] + reach);
+        }
+      }
+      // A corrected texel's pieces lie within its reach of p (they may lie beyond its patch).
+      for (std::uint32_t c = tile.correctionBegin; c < tile.correctionEnd; ++c) {
+        const Texel& texel = texels_[corrections_[c].texel];
+        for (int axis = 0; axis < 3; ++axis) {
+          low[axis] = std::min(low[axis], texel.position[axis] - corrections_[c].reach);
+          high[axis] = std::max(high[axis], texel.position[axis] + corrections_[c].reach);
         }
       }
       tripleVolume += tile.moments.sumPA[0][0] + tile.moments.sumPA[1][1] + tile.moments.sumPA[2][2];
@@ -276,6 +381,11 @@ void TextureHydrostatics::refresh() {
         const Eigen::Vector3d u(texel.edgeU[0], texel.edgeU[1], texel.edgeU[2]);
         const Eigen::Vector3d v(texel.edgeV[0], texel.edgeV[1], texel.edgeV[2]);
         radius = std::max(radius, (p - tile.boundsCenter).norm() + 0.5 * (u.norm() + v.norm()));
+      }
+      for (std::uint32_t c = tile.correctionBegin; c < tile.correctionEnd; ++c) {
+        const Texel& texel = texels_[corrections_[c].texel];
+        const Eigen::Vector3d p(texel.position[0], texel.position[1], texel.position[2]);
+        radius = std::max(radius, (p - tile.boundsCenter).norm() + corrections_[c].reach);
       }
       tile.boundsRadius = std::min(radius * (1.0 + 1e-6), tile.boundsHalfExtent.norm());
       group.moments.add(tile.moments);
@@ -320,6 +430,12 @@ Status TextureHydrostatics::update(const SurfaceTextures& textures) {
     valid_ = false;
     return Error{"texture hydrostatics: moved textures differ in resolution from the build"};
   }
+  if (textures.momentCorrection.size() != corrections_.size() || textures.momentReach.size() != corrections_.size()) {
+    valid_ = false;
+    return Error{"texture hydrostatics: moved textures hold " + std::to_string(textures.momentCorrection.size()) +
+                 " moment corrections, the build had " + std::to_string(corrections_.size())};
+  }
+  loadCorrections(textures);
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint32_t from = source_[i];
     Texel& t = texels_[i];
@@ -350,19 +466,37 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
   const Eigen::Matrix3d& r = q.pose.rotation;
   const Eigen::Vector3d& t = q.pose.translation;
   detail::WettedSums sums;
-  sums.volumeScale = volumeScale(total_, enclosedVolume_, r, 0.0);
+  const auto allCorrections = std::uint32_t(corrections_.size());
 
   if (!surface.hasFreeSurface()) {
     // A medium: every texel is submerged; pressure from the medium at each texel centre.
     const Eigen::Vector3d origin = t;
-    for (const Texel& texel : texels_) {
+    std::uint32_t cursor = 0;
+    for (std::uint32_t i = 0; i < texels_.size(); ++i) {
+      const Texel& texel = texels_[i];
       const PosedTexel w = pose(texel, r, Eigen::Vector3d::Zero());
       sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, 1.0, -w.y, w.y * w.y, 0.0);
-      const double p = surface.pressure(Eigen::Vector3d(w.x, w.y, w.z) + origin, q.time, q.gravity);
+      const Eigen::Vector3d x(w.x, w.y, w.z);
+      const double p = surface.pressure(x + origin, q.time, q.gravity);
       const Eigen::Vector3d force = -p * Eigen::Vector3d(w.ax, w.ay, w.az);
-      const Eigen::Vector3d torque = Eigen::Vector3d(w.x, w.y, w.z).cross(force);
+      Eigen::Vector3d torque = x.cross(force);
+      Eigen::Vector3d totalForce = force;
+      if (const MomentCorrection* correction = correctionOf(corrections_, cursor, allCorrections, i)) {
+        // The pressure's first-order term over the pieces (WettedSums::addMomentCorrection): a
+        // liquid at rest has grad p = -rho(x) g e_y, so Sum g(c_k) A_k gains grad g . dm(:, k)
+        // with g = -p (force) and -p x_i (torque).
+        const Eigen::Matrix3d dm = worldMoment(*correction, r);
+        sums.addMomentCorrection(w.x, w.y, w.z, dm, 1.0, -w.y, 0.0, 0.0, 0.0);
+        const double rhoG = surface.densityAt(x + origin) * q.gravity;
+        const Eigen::Vector3d gradientTerm = rhoG * dm.row(1).transpose();  // -grad p . dm(:, k)
+        totalForce += gradientTerm;
+        // -(p dm(i, j) + x_i grad p . dm(:, j)) for the torque's x_i A_j.
+        const Eigen::Matrix3d torqueMoment = -p * dm + x * gradientTerm.transpose();
+        torque += Eigen::Vector3d(torqueMoment(1, 2) - torqueMoment(2, 1), torqueMoment(2, 0) - torqueMoment(0, 2),
+                                  torqueMoment(0, 1) - torqueMoment(1, 0));
+      }
       for (int k = 0; k < 3; ++k) {
-        sums.pressureForce[k] += force[k];
+        sums.pressureForce[k] += totalForce[k];
         sums.pressureTorque[k] += torque[k];
       }
     }
@@ -373,7 +507,9 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
     const Eigen::Vector3d origin(t.x(), *flat, t.z());
     const Eigen::Vector3d offset = t - origin;  // (0, t_y - h, 0)
     if (traversal == TexelTraversal::BruteForce) {
-      for (const Texel& texel : texels_) addFlatTexel(sums, texel, r, offset);
+      std::uint32_t cursor = 0;
+      for (std::uint32_t i = 0; i < texels_.size(); ++i)
+        addFlatTexel(sums, texels_[i], correctionOf(corrections_, cursor, allCorrections, i), r, offset);
     } else {
       double low, high;
       verticalRange(boundsCenter_, boundsHalfExtent_, r, offset.y(), low, high);
@@ -397,7 +533,13 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
               under.add(tile.moments);
               continue;
             }
-            for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], r, offset);
+            if (tile.correctionBegin == tile.correctionEnd) {  // one-piece texels only: no correction to look up
+              for (std::uint32_t i = tile.begin; i < tile.end; ++i) addFlatTexel(sums, texels_[i], nullptr, r, offset);
+              continue;
+            }
+            std::uint32_t cursor = tile.correctionBegin;
+            for (std::uint32_t i = tile.begin; i < tile.end; ++i)
+              addFlatTexel(sums, texels_[i], correctionOf(corrections_, cursor, tile.correctionEnd, i), r, offset);
           }
         }
       }
@@ -408,7 +550,7 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
 
   // Surfaces with jets (waves): tiles against a local model of the surface (TextureHydrostaticsWaves.cpp).
   if (traversal == TexelTraversal::Hierarchy)
-    if (std::optional<HydrostaticsResult> result = queryWaves(surface, q, sums.volumeScale)) return *result;
+    if (std::optional<HydrostaticsResult> result = queryWaves(surface, q)) return *result;
 
   // Waves and grids, per texel: the local surface height above each texel centre, the texel taken
   // as a patch under a locally level surface (the surface's slope over one texel is neglected).
@@ -424,17 +566,26 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
     double low, high;
     verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
     if (low >= highest) continue;
+    std::uint32_t cursor = tile.correctionBegin;
     for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
       const Texel& texel = texels_[i];
+      const MomentCorrection* correction = correctionOf(corrections_, cursor, tile.correctionEnd, i);
       double a, b;
       verticalEdges(texel, r, a, b);
+      // A corrected texel's pieces reach farther than its patch where they lie far apart.
       const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const double span = correction ? std::max(halfSpan, double(correction->reach)) : halfSpan;
       const PosedTexel w = pose(texel, r, offset);
-      if (w.y - halfSpan >= highest) continue;
-      const double localHeight = surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time) - origin.y();
+      if (w.y - span >= highest) continue;
+      // A corrected texel takes the surface's jet where it has one: its slope enters the correction.
+      const std::optional<SurfaceJet> jet =
+          correction ? surface.heightJet(w.x + origin.x(), w.z + origin.z(), q.time) : std::nullopt;
+      const double localHeight =
+          (jet ? jet->height : surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time)) - origin.y();
       const double depth = localHeight - w.y;
-      if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
-      addWaveTexel(sums, texel, w, a, b, depth, localHeight, rhoG);
+      if (!(depth > -span)) continue;  // dry (or a NaN height)
+      addWaveTexel(sums, texel, correction, r, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
+                   jet ? jet->slopeZ : 0.0, rhoG);
     }
   }
   return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, true);

@@ -36,6 +36,7 @@ namespace {
 
 using Texel = TextureHydrostatics::Texel;
 using Moments = TextureHydrostatics::Moments;
+using MomentCorrection = TextureHydrostatics::MomentCorrection;
 
 // Moments::sumPPA's index of the pair (i, j).
 constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
@@ -97,8 +98,7 @@ struct WavePart {
 }  // namespace
 
 std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSurface& surface,
-                                                                  const HydrostaticsQuery& q,
-                                                                  double volumeScale) const {
+                                                                  const HydrostaticsQuery& q) const {
   const std::optional<SurfaceSmoothness> smooth = surface.smoothness(q.time);
   if (!smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) || !std::isfinite(smooth->third) ||
       !std::isfinite(smooth->fourth))
@@ -127,7 +127,6 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   const detail::HermiteError interpolation = detail::hermiteError(grid.spacing(), smooth->fourth);
 
   detail::WettedSums sums;
-  sums.volumeScale = volumeScale;
   Moments under;  // wholly submerged tiles: the flat part of their sums
   WavePart wave;  // and the wave part
   const Eigen::Vector3d xRow = r.row(0).transpose(), yRow = r.row(1).transpose(), zRow = r.row(2).transpose();
@@ -142,6 +141,12 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double ux = x - centerX, uz = z - centerZ;
       return h + jet.slopeX * ux + jet.slopeZ * uz +
              0.5 * (jet.curvatureXX * ux * ux + 2.0 * jet.curvatureXZ * ux * uz + jet.curvatureZZ * uz * uz);
+    }
+    // Slope of the model at the local point (x, z).
+    void slope(double x, double z, double& slopeX, double& slopeZ) const {
+      const double ux = x - centerX, uz = z - centerZ;
+      slopeX = jet.slopeX + jet.curvatureXX * ux + jet.curvatureXZ * uz;
+      slopeZ = jet.slopeZ + jet.curvatureXZ * ux + jet.curvatureZZ * uz;
     }
     // Bounds of the height over the box |x - x_c| <= reachX, |z - z_c| <= reachZ around the
     // local point (x_c, z_c), widened by the error bound.
@@ -201,22 +206,48 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     const double bx = offset.x(), by = offset.y(), bz = offset.z();
     const Model m = model ? *model : Model{};
     detail::WettedSums local;  // this tile's texels, added to the query's sums at the end
+    std::uint32_t correction = tile.correctionBegin;  // the next of the tile's moment corrections
     for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
       const Texel& texel = texels_[i];
+      const bool corrected = correction < tile.correctionEnd && corrections_[correction].texel == i;
+      const MomentCorrection* moment = corrected ? &corrections_[correction++] : nullptr;
       const double a = y0 * texel.edgeU[0] + y1 * texel.edgeU[1] + y2 * texel.edgeU[2];
       const double b = y0 * texel.edgeV[0] + y1 * texel.edgeV[1] + y2 * texel.edgeV[2];
       const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
+      const double span = moment ? std::max(halfSpan, double(moment->reach)) : halfSpan;  // its pieces' reach
       const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
       const double y = y0 * px + y1 * py + y2 * pz + by;
-      if (!model && y - halfSpan >= highest) continue;
+      if (!model && y - span >= highest) continue;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;
-      const double height = model ? m.at(x, z) : surface.surfaceHeight(x + origin.x(), z + origin.z(), q.time) - origin.y();
-      if (!(height - y > -halfSpan)) continue;  // dry (or a NaN height)
+      // A corrected texel needs the slope too (WettedSums::addMomentCorrection): the model's, or
+      // the surface's jet where it has one.
+      double slopeX = 0.0, slopeZ = 0.0;
+      double height;
+      if (model) {
+        height = m.at(x, z);
+        if (moment) m.slope(x, z, slopeX, slopeZ);
+      } else if (const std::optional<SurfaceJet> jet =
+                     moment ? surface.heightJet(x + origin.x(), z + origin.z(), q.time) : std::nullopt) {
+        height = jet->height - origin.y();
+        slopeX = jet->slopeX;
+        slopeZ = jet->slopeZ;
+      } else {
+        height = surface.surfaceHeight(x + origin.x(), z + origin.z(), q.time) - origin.y();
+      }
+      if (!(height - y > -span)) continue;  // dry (or a NaN height)
       const detail::WaterlineFractions f = detail::waterlineFractions(height - y, a, b);
       const double ax = texel.areaVector[0], ay = texel.areaVector[1], az = texel.areaVector[2];
       local.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
                        texel.area, f.area, f.depth, f.depthSq, height);
+      if (moment) {
+        Eigen::Matrix3d bodyMoment;
+        for (int row = 0; row < 3; ++row)
+          for (int k = 0; k < 3; ++k) bodyMoment(row, k) = moment->moment[row][k];
+        local.addMomentCorrection(x, y, z, r * bodyMoment * r.transpose(),
+                                  detail::correctionWeight(height - y, halfSpan, moment->reach), height - y, height, slopeX,
+                                  slopeZ);
+      }
     }
     sums.add(local);
   };

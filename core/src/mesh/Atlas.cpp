@@ -217,7 +217,9 @@ struct Packing {
   double uvPerMetre = 0.0;
 };
 
-Packing packCharts(const std::vector<Chart>& charts) {
+/// Packs the charts into [0,1]^2 with `gutter` packing cells of a grid of `side` cells between
+/// them (an empty packing when they do not fit at any scale).
+Packing packCharts(const std::vector<Chart>& charts, int side, int gutter) {
   const std::size_t count = charts.size();
   double sizeSum = 0.0;
   double largestSide = 0.0;
@@ -226,12 +228,8 @@ Packing packCharts(const std::vector<Chart>& charts) {
     sizeSum += size.x() * size.y();
     largestSide = std::max(largestSide, size.maxCoeff());
   }
-  // Packing grid: about 12 cells per chart at least (each rectangle takes >= 2 x 2 with its
-  // gutter), 1024 to 16384 cells per side.
-  const int side = static_cast<int>(std::clamp(std::ceil(std::sqrt(12.0 * static_cast<double>(count))) * 2.0, 1024.0, 16384.0));
-  constexpr int kGutter = 1;  // packing cells between charts; positive, so charts never touch
   double cellsPerMetre = sizeSum > 0.0 ? std::sqrt(0.7 * side * static_cast<double>(side) / sizeSum) : 1.0;
-  if (largestSide > 0.0) cellsPerMetre = std::min(cellsPerMetre, (side - 2.0 * kGutter) / largestSide);
+  if (largestSide > 0.0) cellsPerMetre = std::min(cellsPerMetre, (side - 2.0 * gutter) / largestSide);
 
   std::vector<stbrp_rect> rects(count);
   std::vector<stbrp_node> nodes(static_cast<std::size_t>(side));
@@ -239,8 +237,8 @@ Packing packCharts(const std::vector<Chart>& charts) {
     for (std::size_t c = 0; c < count; ++c) {
       const Eigen::Vector2d size = (charts[c].hi - charts[c].lo) * scale;
       rects[c].id = static_cast<int>(c);
-      rects[c].w = std::max(static_cast<stbrp_coord>(std::ceil(size.x())), 1) + kGutter;
-      rects[c].h = std::max(static_cast<stbrp_coord>(std::ceil(size.y())), 1) + kGutter;
+      rects[c].w = std::max(static_cast<stbrp_coord>(std::ceil(size.x())), 1) + gutter;
+      rects[c].h = std::max(static_cast<stbrp_coord>(std::ceil(size.y())), 1) + gutter;
     }
     stbrp_context context;
     stbrp_init_target(&context, side, side, nodes.data(), side);
@@ -270,7 +268,6 @@ Packing packCharts(const std::vector<Chart>& charts) {
   }
   Packing packing;
   packing.origin.assign(count, Eigen::Vector2d::Zero());
-  // At the last shrink every chart is a 2 x 2 cell rectangle, which always fits: good > 0.
   if (good == 0.0 || !tryPack(good)) return packing;
   for (const stbrp_rect& rect : rects)
     packing.origin[static_cast<std::size_t>(rect.id)] = Eigen::Vector2d(rect.x, rect.y) / side;
@@ -313,7 +310,26 @@ void rotateToSmallestBounds(Chart& chart, std::vector<Eigen::Vector2d>& corners)
 
 }  // namespace
 
-UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount) {
+/// The charts packed as generateAtlas documents: one packing cell between charts, or, for a bake
+/// of `texels` per side, more than one texel, unless that costs more than a fifth of the charts'
+/// scale (many small charts), where the texel gutter would cost more resolution than the mixed
+/// texels it avoids.
+Packing packChartsFor(const std::vector<Chart>& charts, int texels) {
+  // Packing grid: about 12 cells per chart at least (each rectangle takes >= 2 x 2 with its
+  // gutter), 1024 to 16384 cells per side.
+  const int side = static_cast<int>(
+      std::clamp(std::ceil(std::sqrt(12.0 * static_cast<double>(charts.size()))) * 2.0, 1024.0, 16384.0));
+  // At the last shrink every chart is a 2 x 2 cell rectangle, which always fits: a positive scale.
+  Packing tight = packCharts(charts, side, 1);  // positive, so charts never touch
+  if (texels <= 0) return tight;
+  // A gap of more than 1 / texels in u and v: no texel reaches two charts.
+  const int texelGutter = side / texels + 2;
+  if (texelGutter <= 1) return tight;
+  Packing apart = packCharts(charts, side, texelGutter);
+  return apart.uvPerMetre >= 0.8 * tight.uvPerMetre ? apart : tight;
+}
+
+UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount, int texels) {
   UvLayout layout;
   if (chartCount != nullptr) *chartCount = 0;
   const std::size_t n = mesh.triangles.size();
@@ -338,7 +354,7 @@ UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount) {
     chart.lo *= chartScale[c];
     chart.hi *= chartScale[c];
   }
-  const Packing packing = packCharts(charts);
+  const Packing packing = packChartsFor(charts, texels);
 
   layout.uvs.reserve(n * 3);
   layout.uvTriangles.resize(n);
@@ -365,7 +381,7 @@ UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount) {
   return layout;
 }
 
-PhysicsAtlas physicsAtlas(const Mesh& mesh, const MeshReport& report) {
+PhysicsAtlas physicsAtlas(const Mesh& mesh, const MeshReport& report, int texels) {
   PhysicsAtlas atlas;
   if (report.uvUsableAsAtlas()) {
     atlas.layout = mesh.uv;
@@ -379,7 +395,7 @@ PhysicsAtlas physicsAtlas(const Mesh& mesh, const MeshReport& report) {
     atlas.reason = std::to_string(report.zeroUvAreaTriangles) + " triangles have zero UV area";
   else atlas.reason = std::to_string(report.uvsOutsideUnitSquare) + " UVs lie outside [0,1]";
   atlas.reason += "; generated a physics atlas";
-  atlas.layout = generateAtlas(mesh, &atlas.chartCount);
+  atlas.layout = generateAtlas(mesh, &atlas.chartCount, texels);
   atlas.generated = true;
   return atlas;
 }

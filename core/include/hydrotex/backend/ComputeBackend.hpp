@@ -154,24 +154,6 @@ struct FlatWettedSums {
   double sumXZAy = 0.0;    ///< Sum frac x' z' A_y (m^4)
   double sumZZAy = 0.0;    ///< Sum frac z'^2 A_y (m^4)
   double wettedArea = 0.0; ///< Sum frac |A| (m^2)
-  /// Factor on the volume sums (volume, force, torque; not the water plane), from
-  /// TexelVolumeCalibration::scale; 1 for sums that are exact as they are.
-  double volumeScale = 1.0;
-};
-
-/// The texture path's calibration of the volume sums (TextureHydrostatics.cpp, volumeScale): the
-/// enclosed volume (1/3) Sum p . A is exact from the texels, the y-field sum Sum y' A'_y the
-/// waterline needs is off by O(texel^2); scaling the volume sums by their ratio for the whole body
-/// at the pose's orientation makes a wholly submerged body exact. Built once per body.
-struct TexelVolumeCalibration {
-  Eigen::Matrix3d sumPA = Eigen::Matrix3d::Zero();  ///< Sum p_i A_k over the texels (m^3, body frame)
-  double enclosedVolume = 0.0;                      ///< (1/3) Sum p . A (m^3)
-
-  /// The sums of `textures` (accumulated in double).
-  static TexelVolumeCalibration fromTextures(const SurfaceTextures& textures);
-  /// enclosedVolume / Sum (r1 . p)(r1 . A), r1 the rotation's y row (1 when that sum is not
-  /// positive).
-  double scale(const Eigen::Matrix3d& rotation) const;
 };
 
 /// The HydrostaticsResult of a body under a flat surface at `surfaceHeight` (m) of `density`
@@ -184,8 +166,8 @@ HydrostaticsResult finishFlatHydrostatics(const FlatWettedSums& sums, double sur
 /// a medium), in the world frame translated to the frame origin o: core's texture path integrates
 /// the pressure texel by texel there (TextureHydrostatics.cpp) instead of using Archimedes' force.
 struct PressureSums {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< -Sum p A (N), before the volume scale
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< -Sum x' x p A (N m) about o, before the volume scale
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   ///< -Sum p A (N)
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  ///< -Sum x' x p A (N m) about o
 };
 
 /// The HydrostaticsResult of a body from its wetted sums under waves, a height grid

@@ -103,6 +103,22 @@ struct SurfaceTextures {
   std::vector<Eigen::Vector3f> openingPosition;    ///< see openingArea
   /// The lids' exact area moments (zero for a closed hull), for the shell (MassProperties.hpp).
   OpeningMoments openings;
+  /// Texels with pieces of more than one triangle (ascending indices into the vectors above):
+  /// the only ones whose single position cannot carry their pieces' first area moment, which
+  /// momentCorrection then does. Fixed by the bake (a deforming mesh keeps the list). Empty for
+  /// a layout whose texels each lie in one triangle.
+  std::vector<std::uint32_t> momentTexel;
+  /// Per entry of momentTexel: Sum_k c_k A_k^T - p A^T (m^3, body frame), c_k and A_k the
+  /// pieces' centroids and area vectors, p and A the texel's position and area vector as stored
+  /// (float). Sum over texels of p A^T plus these equals Sum over pieces of c_k A_k^T, the exact
+  /// Int x n^T dA of the pieces' flat polygons (V I for a closed mesh), so the volume sums of a
+  /// wholly submerged body are exact at every orientation (docs/design.md "Exact texels"). Its
+  /// trace is zero up to rounding (p . A is the pieces' flux); zero for coplanar pieces.
+  std::vector<Eigen::Matrix3f> momentCorrection;
+  /// Per entry of momentTexel: the largest distance from p to a piece's centroid (m). Where a
+  /// packed atlas puts pieces of distant faces in one texel (a lid and a bottom), the correction
+  /// is weighted by the submerged share of p's vertical span +- this, not of the texel's patch.
+  std::vector<float> momentReach;
 
   /// Number of covered texels.
   std::size_t size() const { return position.size(); }

@@ -78,6 +78,8 @@ class SurfaceEvaluator {
   int width_ = 0, height_ = 0;
   std::size_t texelCount_ = 0;
   std::vector<std::uint32_t> texelOrder_;   // covered texel (SurfaceTextures index) per visit
+  std::vector<std::uint32_t> correctionSlot_;  // per visit of a texel of several pieces: its momentCorrection entry
+  std::vector<std::uint32_t> momentTexel_;     // SurfaceTextures::momentTexel of the bake
   std::vector<Group> groups_;
   std::vector<Piece> pieces_;               // grouped as the texels are visited
   std::vector<UvMap> uvMaps_;               // per layout triangle

@@ -124,7 +124,8 @@ Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, cons
                                           const std::vector<HydrostaticsResult>& references,
                                           const ErrorScales& scales, const TimingSettings& timing);
 
-/// Bytes a texture query reads: packed texels, tiles and groups (lower bound on what is held).
+/// Bytes a texture query reads: packed texels, moment corrections, tiles and groups (lower bound
+/// on what is held).
 std::size_t textureHydrostaticsBytes(const TextureHydrostatics& texture);
 /// Bytes of the mesh the exact path reads: positions and triangles.
 std::size_t meshBytes(const Mesh& mesh);

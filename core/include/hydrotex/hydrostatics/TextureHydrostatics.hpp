@@ -78,7 +78,8 @@ class TextureHydrostatics {
   /// an update succeeds.
   Status update(const SurfaceTextures& textures);
 
-  /// Enclosed volume of the body from its texels (m^3): (1/3) sum p . A.
+  /// Enclosed volume of the body from its texels (m^3): (1/3) the trace of sum p A^T plus the
+  /// moment corrections (SurfaceTextures::momentCorrection), the pieces' (1/3) Int x . n dA.
   double enclosedVolume() const { return enclosedVolume_; }
   /// Number of tiles.
   std::size_t tileCount() const { return tiles_.size(); }
@@ -88,6 +89,8 @@ class TextureHydrostatics {
   int groupSize() const { return groupSize_; }
   /// Number of covered texels.
   std::size_t texelCount() const { return texels_.size(); }
+  /// Number of texels that carry a moment correction (SurfaceTextures::momentTexel).
+  std::size_t correctionCount() const { return corrections_.size(); }
 
   /// One covered texel, packed for the query (single precision, as baked).
   struct Texel {
@@ -98,8 +101,18 @@ class TextureHydrostatics {
     float edgeV[3];       ///< texel v edge on the surface (m, body frame)
   };
 
+  /// The moment correction of a texel of several pieces (SurfaceTextures::momentCorrection),
+  /// kept beside the packed texels for the tiles the waterline crosses.
+  struct MomentCorrection {
+    std::uint32_t texel = 0;  ///< index into the packed texels
+    float moment[3][3] = {};  ///< Sum_k c_k A_k^T - p A^T (m^3, body frame), [i][k]
+    float reach = 0.0f;       ///< largest distance from p to a piece's centroid (m)
+  };
+
   /// Moments of a set of texels in the body frame, in double, sufficient to evaluate every
-  /// hydrostatic sum of wholly submerged texels at any pose in O(1).
+  /// hydrostatic sum of wholly submerged texels at any pose in O(1). The texels' moment
+  /// corrections dM are included: sumPA gets dM, sumPPA the first-order p_i dM_jk + dM_ik p_j
+  /// (WettedSums::addMomentCorrection), so that a tile's moments equal its texels' sums.
   struct Moments {
     double sumArea = 0.0;                  ///< sum |A| (m^2)
     double sumA[3] = {0, 0, 0};            ///< sum A_k (m^2)
@@ -113,6 +126,8 @@ class TextureHydrostatics {
   /// body-frame bounds of its texel patches.
   struct Tile {
     std::uint32_t begin = 0, end = 0;     ///< texel range (tile) or tile range (group)
+    /// Range of its texels' entries in the moment corrections (tiles only; sorted by texel)
+    std::uint32_t correctionBegin = 0, correctionEnd = 0;
     Moments moments;                      ///< of its texels
     Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();       ///< m, body frame
     Eigen::Vector3d boundsHalfExtent = Eigen::Vector3d::Zero();   ///< m, body frame
@@ -124,11 +139,13 @@ class TextureHydrostatics {
  private:
   // The Hierarchy traversal under a surface with jets (TextureHydrostaticsWaves.cpp); empty when
   // the surface offers no smoothness bound (the caller then goes texel by texel).
-  std::optional<HydrostaticsResult> queryWaves(const LiquidSurface& surface, const HydrostaticsQuery& query,
-                                               double volumeScale) const;
-  void refresh();  // moments and bounds of tiles, groups and body from texels_
+  std::optional<HydrostaticsResult> queryWaves(const LiquidSurface& surface, const HydrostaticsQuery& query) const;
+  void refresh();  // moments and bounds of tiles, groups and body from texels_ and corrections_
+  void loadCorrections(const SurfaceTextures& textures);  // corrections_' moments from `textures`
   std::vector<Texel> texels_;
   std::vector<std::uint32_t> source_;  // per packed texel: its index in the SurfaceTextures
+  std::vector<MomentCorrection> corrections_;    // sorted by packed texel
+  std::vector<std::uint32_t> correctionSource_;  // per correction: its entry in SurfaceTextures::momentCorrection
   int width_ = 0, height_ = 0;         // resolution of the build's textures
   bool valid_ = true;                  // false after a failed update
   std::vector<Tile> tiles_;

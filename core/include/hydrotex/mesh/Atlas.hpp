@@ -26,17 +26,21 @@ struct PhysicsAtlas {
 };
 
 /// Chooses the physics atlas: the mesh's own UVs when `report.uvUsableAsAtlas()` (present,
-/// inside [0,1]^2, bijective, no zero-area UV triangle), otherwise generateAtlas(mesh).
-/// `report` must come from validateMesh(mesh).
-PhysicsAtlas physicsAtlas(const Mesh& mesh, const MeshReport& report);
+/// inside [0,1]^2, bijective, no zero-area UV triangle), otherwise generateAtlas(mesh, texels).
+/// `report` must come from validateMesh(mesh); `texels`: the bake's texels per side (0: unknown).
+PhysicsAtlas physicsAtlas(const Mesh& mesh, const MeshReport& report, int texels = 0);
 
 /// Generates a private atlas: charts of edge-connected triangles with similar normals (within
 /// kChartNormalCosine of the chart's first triangle) projected on the chart's plane, grown only
 /// while a new triangle does not overlap the chart's triangles already placed; each chart scaled
 /// so its UV area per 3D area is the same for every chart; packed without overlap into [0,1]^2
-/// with a gutter of at least one packing cell. O(n log n); about a second per million triangles.
-/// `chartCount`, when given, receives the number of charts. Returns an empty layout for a mesh
-/// with indices out of range or non-finite positions (loadMesh rejects those).
-UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount = nullptr);
+/// with a gutter of at least one packing cell. With `texels` > 0 (the bake's texels per side) the
+/// gutter is more than one texel, so that no texel holds pieces of two charts (faces that may lie
+/// far apart, which one texel position cannot stand for at the waterline), unless that shrinks
+/// the charts' scale by more than a fifth (many small charts), when the one-cell gutter is kept.
+/// O(n log n); about a second per million triangles. `chartCount`, when given, receives the
+/// number of charts. Returns an empty layout for a mesh with indices out of range or non-finite
+/// positions (loadMesh rejects those).
+UvLayout generateAtlas(const Mesh& mesh, std::size_t* chartCount = nullptr, int texels = 0);
 
 }  // namespace hydrotex

@@ -76,15 +76,15 @@ Status enableGpuDeformation(ComputeBackend& backend, BackendBodyId body, const S
                             const UvLayout& layout);
 
 /// Uploads `positions` (m, body frame; the mesh's vertices, same topology) and re-evaluates the
-/// body's PT, VAT, area and edges (SurfaceEvaluator's formulas, float), its chunk bounds and
-/// pre-summed moments and its volume calibration on the GPU, and its mass texels and per-block
-/// geometry sums (deform_mass.comp); the next hydrostatics and massProperties calls use them (the
-/// texel fields are never read back: only 48 bytes per hydrostatics chunk and 80 per 256-texel
-/// mass block). Errors: no enableGpuDeformation, a vertex count that differs, a non-finite vertex.
+/// body's PT, VAT, area and edges (SurfaceEvaluator's formulas, float), its moment corrections,
+/// chunk bounds and pre-summed moments on the GPU, and its mass texels and per-block geometry sums
+/// (deform_mass.comp); the next hydrostatics and massProperties calls use them (the texel fields
+/// are never read back: only a hydrostatics chunk's header and moments, 172 bytes, and 80 bytes
+/// per 256-texel mass block). Errors: no enableGpuDeformation, a vertex count that differs, a non-finite vertex.
 Status updateVerticesOnGpu(ComputeBackend& backend, BackendBodyId body, const std::vector<Eigen::Vector3d>& positions);
 
-/// Reads a body's texels as the GL backend holds them (bake order): for tests of the GPU
-/// re-evaluation against evaluateSurface. Not for the per-step path.
+/// Reads a body's texels and moment corrections as the GL backend holds them (bake order): for
+/// tests of the GPU re-evaluation against evaluateSurface. Not for the per-step path.
 Expected<SurfaceTextures> readGpuSurface(ComputeBackend& backend, BackendBodyId body);
 
 /// Opens a headless context (EglContext::create) and makes the GL backend on it. Error when no

@@ -30,6 +30,16 @@ struct Chunk {
   std::uint32_t count;                ///< texels
   float centerX, centerY, centerZ;    ///< bounds centre (m, body frame)
   float halfX, halfY, halfZ;          ///< bounds half extent (m, body frame), conservative
+  std::uint32_t correctionBegin;      ///< its texels' first TexelCorrection (hydrostatics chunks)
+  std::uint32_t correctionCount;      ///< its texels' TexelCorrections (0 for mass chunks)
+};
+
+/// The moment correction of a texel of several pieces (SurfaceTextures::momentCorrection and
+/// momentReach), 44 bytes.
+struct TexelCorrection {
+  std::uint32_t texel;  ///< the texel's index within its chunk
+  float moment[9];      ///< Sum_k c_k A_k^T - p A^T (m^3, body frame), row-major [3 i + k]
+  float reach;          ///< largest distance from p to a piece's centroid (m)
 };
 
 /// A body's pose for one step: rotation rows, w = offset of the body origin from (t_x, h, t_z).
