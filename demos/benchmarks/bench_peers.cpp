@@ -142,6 +142,41 @@ struct Pass {
 
 constexpr int kBodies = 100;
 
+/// A scene's world with every body kept awake (DISABLE_DEACTIVATION, so that each is computed
+/// every step), stepped 10 times to warm up and then `steps` times timed: the whole step and the
+/// controller's updateAction apart (s), and the controller's hydrostatics queries in those steps.
+struct TimedRun {
+  std::unique_ptr<SceneWorld> world;
+  double worldSeconds = 0.0, controllerSeconds = 0.0;
+  std::uint64_t queries = 0;
+};
+
+TimedRun runTimed(const Scene& scene, int steps) {
+  auto created = SceneWorld::create(scene);
+  if (!created) {
+    std::fprintf(stderr, "bench_peers: %s\n", created.error().message.c_str());
+    std::exit(1);
+  }
+  TimedRun run{std::move(created).value()};
+  SceneWorld& world = *run.world;
+  for (btRigidBody* body : world.bodies()) body->setActivationState(DISABLE_DEACTIVATION);
+  BuoyancyController& controller = world.controller();
+  TimedAction timed(controller);
+  world.world().removeAction(&controller);
+  world.world().addAction(&timed);
+  for (int i = 0; i < 10; ++i) world.step();
+  timed.seconds = 0.0;
+  const std::uint64_t queriesBefore = controller.statistics().hydrostaticsQueries;
+  const auto start = Clock::now();
+  for (int i = 0; i < steps; ++i) world.step();
+  run.worldSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+  world.world().removeAction(&timed);
+  world.world().addAction(&controller);
+  run.controllerSeconds = timed.seconds;
+  run.queries = controller.statistics().hydrostaticsQueries - queriesBefore;
+  return run;
+}
+
 Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_ptr<const Mesh>& mesh, const Case& c,
              int steps) {
   Scene scene = base;
@@ -175,26 +210,12 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
     body.rotationDegrees += Eigen::Vector3d(2.0 * (i % 3), 37.0 * i, 1.5 * (i % 4));
     scene.bodies.push_back(body);
   }
-  auto created = SceneWorld::create(scene);
-  if (!created) {
-    std::fprintf(stderr, "bench_peers: %s\n", created.error().message.c_str());
-    std::exit(1);
-  }
-  SceneWorld& world = **created;
-  for (btRigidBody* body : world.bodies()) body->setActivationState(DISABLE_DEACTIVATION);
+  const TimedRun run = runTimed(scene, steps);
+  SceneWorld& world = *run.world;
   BuoyancyController& controller = world.controller();
-  TimedAction timed(controller);
-  world.world().removeAction(&controller);
-  world.world().addAction(&timed);
-  for (int i = 0; i < 10; ++i) world.step();
-  timed.seconds = 0.0;
-  const ControllerStatistics before = controller.statistics();
-  for (int i = 0; i < steps; ++i) world.step();
-  world.world().removeAction(&timed);
-  world.world().addAction(&controller);
   Pass pass;
-  pass.controllerUs = 1e6 * timed.seconds / (double(steps) * kBodies);
-  pass.queriesPerStep = double(controller.statistics().hydrostaticsQueries - before.hydrostaticsQueries) / steps;
+  pass.controllerUs = 1e6 * run.controllerSeconds / (double(steps) * kBodies);
+  pass.queriesPerStep = double(run.queries) / steps;
   pass.triangles = mesh->triangles.size();
   const FloatingBodyReport* first = controller.report(world.bodies().front());
   pass.resolved = first && first->method == HydrostaticsMethod::Polyhedral ? "exact" : "texture";
@@ -330,27 +351,12 @@ MixedPass runMixed(const Scene& base, int bodies, int threads, int steps) {
     body.rotationDegrees += Eigen::Vector3d(2.0 * (i % 3), 37.0 * i, 1.5 * (i % 4));
     scene.bodies.push_back(body);
   }
-  auto created = SceneWorld::create(scene);
-  if (!created) {
-    std::fprintf(stderr, "bench_peers: %s\n", created.error().message.c_str());
-    std::exit(1);
-  }
-  SceneWorld& world = **created;
-  for (btRigidBody* body : world.bodies()) body->setActivationState(DISABLE_DEACTIVATION);
-  BuoyancyController& controller = world.controller();
-  TimedAction timed(controller);
-  world.world().removeAction(&controller);
-  world.world().addAction(&timed);
-  for (int i = 0; i < 10; ++i) world.step();
-  timed.seconds = 0.0;
-  const auto start = Clock::now();
-  for (int i = 0; i < steps; ++i) world.step();
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  world.world().removeAction(&timed);
-  world.world().addAction(&controller);
+  const TimedRun run = runTimed(scene, steps);
+  SceneWorld& world = *run.world;
+  const BuoyancyController& controller = world.controller();
   MixedPass pass;
-  pass.worldMs = 1e3 * seconds / steps;
-  pass.controllerMs = 1e3 * timed.seconds / steps;
+  pass.worldMs = 1e3 * run.worldSeconds / steps;
+  pass.controllerMs = 1e3 * run.controllerSeconds / steps;
   for (std::size_t i = 0; i < world.bodies().size(); ++i) {
     const FloatingBodyReport* report = controller.report(world.bodies()[i]);
     const std::string& name = base.bodies[i % base.bodies.size()].name;
