@@ -72,3 +72,37 @@ TEST_CASE("a sphere shape asked for the texture path keeps it", "[floating][sphe
   CHECK(world.controller().report(&body)->massProperties.mass < 300.0 * 4.0 / 3.0 * kPi * 0.125);
   world.controller().removeBody(&body);
 }
+
+TEST_CASE("under waves a sphere shape on Auto is resolved as its tessellation, not held to the flat closed form",
+          "[floating][sphere][waves]") {
+  // The closed form holds in flat water only; under waves the exact path on the fine tessellation
+  // asks the surface at every vertex (about 1.6 ms a query, bench_peers), so Auto prices the
+  // tessellation's two paths instead: at 64^2 the texture path is the cheaper by core's cost model
+  // (2 + 0.12 x 64 = 9.7 us against 1 + 0.02 us a triangle) and the advisor finds it within 1e-2.
+  // Asked for the exact path, the sphere keeps it.
+  auto waves = std::make_shared<GerstnerWaves>(
+      std::vector<GerstnerWave>{GerstnerWave{0.1, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5}});
+  for (HydrostaticsMethod method : {HydrostaticsMethod::Auto, HydrostaticsMethod::Polyhedral}) {
+    INFO("method " << int(method));
+    TestWorld world(waves);
+    btSphereShape shape(0.5f);
+    btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
+    FloatingBodySettings settings;
+    settings.method = method;
+    settings.autoMethodError = 1e-2;
+    settings.resolution = 64;
+    settings.density = 300.0;
+    settings.effects = {Effect::Buoyancy};
+    REQUIRE(world.controller().addBody(&body, settings).ok());
+    const FloatingBodyReport* report = world.controller().report(&body);
+    const double sphereMass = 300.0 * 4.0 / 3.0 * kPi * 0.125;
+    if (method == HydrostaticsMethod::Auto) {
+      CHECK(report->method == HydrostaticsMethod::Texture);
+      CHECK(report->massProperties.mass < sphereMass);  // the tessellation's: its vertices lie on the sphere
+    } else {
+      CHECK(report->method == HydrostaticsMethod::Polyhedral);
+      CHECK(report->massProperties.mass == Approx(sphereMass).epsilon(1e-12));  // the closed form
+    }
+    world.controller().removeBody(&body);
+  }
+}
