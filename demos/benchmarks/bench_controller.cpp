@@ -443,6 +443,20 @@ int runChanging(int runs) {
 }
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::printf("usage: bench_controller [CSV] | --same-state [RUNS] | --changing [RUNS] | --backend cpu|gpu [--bodies N] "
+                  "[--threads T] [--runs R] [--steps S] [--drag 0|1] [--bandwidth-gbs B] [--csv FILE]\n");
+      return 0;
+    }
+  }
+  // An unknown option is no CSV path (a file named after it would be written where the benchmark runs).
+  if (argc > 1 && argv[1][0] == '-' && std::string(argv[1]) != "--backend" && std::string(argv[1]) != "--changing" &&
+      std::string(argv[1]) != "--same-state") {
+    std::fprintf(stderr, "bench_controller: unknown option '%s' (--help lists them)\n", argv[1]);
+    return 2;
+  }
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--backend") return runBackend(argc, argv);
   for (int i = 1; i < argc; ++i)
