@@ -451,12 +451,6 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
-  // An unknown option is no CSV path (a file named after it would be written where the benchmark runs).
-  if (argc > 1 && argv[1][0] == '-' && std::string(argv[1]) != "--backend" && std::string(argv[1]) != "--changing" &&
-      std::string(argv[1]) != "--same-state") {
-    std::fprintf(stderr, "bench_controller: unknown option '%s' (--help lists them)\n", argv[1]);
-    return 2;
-  }
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--backend") return runBackend(argc, argv);
   for (int i = 1; i < argc; ++i)
@@ -471,6 +465,12 @@ int main(int argc, char** argv) {
       std::printf("drag over the bodies: sum |F| %.17g N, sum |T| %.17g N m\n", same.dragForceSum, same.dragTorqueSum);
       return 0;
     }
+  // No mode: the first argument, if any, is the CSV path, and an option there is a mistake, not a
+  // file to write where the benchmark runs.
+  if (argc > 1 && argv[1][0] == '-') {
+    std::fprintf(stderr, "bench_controller: unknown option '%s' (--help lists them)\n", argv[1]);
+    return 2;
+  }
   const std::string csvPath = argc > 1 ? argv[1] : "bench_controller.csv";
   struct Case {
     const char* name;
