@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,44 @@ TEST_CASE("Gerstner orbital velocities decay as exp(k depth) and vanish above th
   // The default (no velocity field) ignores the height it is given.
   const FlatSurface still(0.0);
   CHECK(still.velocityBelow(Eigen::Vector3d(0.0, -1.0, 0.0), 0.0, 0.0).isZero(0.0));
+}
+
+TEST_CASE("Gerstner velocities for a batch of points are velocityBelow's, phases turned from the first", "[liquid][gerstner]") {
+  // peers_waves.json's three waves. Points near the first (turns under kRotationLimit, where the
+  // Taylor rotation replaces sin and cos) and far from it (sin and cos again), below and above
+  // the surface. The turned phases differ from fresh ones by rounding: ~1e-16 rad per turn.
+  const GerstnerWaves sea({{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                           {0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                           {0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
+  const double t = 3.7;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> heights;
+  for (int i = 0; i < 40; ++i) {
+    const double spread = i < 30 ? 0.05 : 3.0;  // the last ten far from the first point
+    const Eigen::Vector3d p(1.0 + spread * std::cos(1.3 * i), 0.0, -2.0 + spread * std::sin(0.7 * i));
+    const double h = sea.surfaceHeight(p.x(), p.z(), t);
+    points.emplace_back(p.x(), h - 0.02 * (i % 5) + (i % 11 == 3 ? 0.01 : 0.0), p.z());
+    heights.push_back(h);
+  }
+  std::vector<Eigen::Vector3d> batch(points.size(), Eigen::Vector3d::Constant(7.0));
+  sea.velocitiesBelow(points, heights, t, batch);
+  double largest = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    CAPTURE(i);
+    const Eigen::Vector3d one = sea.velocityBelow(points[i], heights[i], t);
+    largest = std::max(largest, one.norm());
+    CHECK((batch[i] - one).norm() <= 1e-15 + 1e-14 * one.norm());
+    if (points[i].y() > heights[i]) CHECK(batch[i].isZero(0.0));
+  }
+  CHECK(largest > 0.1);  // the orbital speeds are there: A omega ~ 0.09 + 0.05 + 0.03 m/s
+  // Spans of unequal sizes: nothing written.
+  std::vector<Eigen::Vector3d> untouched(3, Eigen::Vector3d::Constant(7.0));
+  sea.velocitiesBelow(std::span(points).first(3), std::span(heights).first(2), t, untouched);
+  CHECK(untouched[0] == Eigen::Vector3d::Constant(7.0));
+  // The default loops velocityBelow: a flat, still surface gives zeros.
+  const FlatSurface still(0.0);
+  still.velocitiesBelow(std::span(points).first(3), std::span(heights).first(3), t, untouched);
+  CHECK(untouched[0].isZero(0.0));
 }
 
 TEST_CASE("Height grid interpolates bilinearly and clamps outside", "[liquid][grid]") {

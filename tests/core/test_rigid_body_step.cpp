@@ -360,3 +360,87 @@ TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipp
   CHECK(given.torque == unprepared.torque);
   CHECK(given.damping == unprepared.damping);
 }
+
+namespace {
+
+// The surface of `inner` without its smoothness bound: drag then asks the surface per patch.
+class PerPatchSurface final : public LiquidSurface {
+ public:
+  explicit PerPatchSurface(const LiquidSurface& inner) : inner_(inner) {}
+  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
+  Eigen::Vector3d velocity(const Eigen::Vector3d& p, double time) const override { return inner_.velocity(p, time); }
+  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& p, double h, double time) const override {
+    return inner_.velocityBelow(p, h, time);
+  }
+  double density() const override { return inner_.density(); }
+  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
+  Status validate() const override { return inner_.validate(); }
+
+ private:
+  const LiquidSurface& inner_;
+};
+
+}  // namespace
+
+TEST_CASE("under waves drag interpolates the surface above its patches within its bound", "[step][drag][waves]") {
+  // peers_waves.json's three waves and a current; a tilted, spinning body of 400 patches on a
+  // 1.2 m ellipsoid cut by the waterline. The reference asks the surface's height and velocity
+  // per patch (exact to the search's 1e-9 m). rigidBodyDrag interpolates the height from surface
+  // jets over the footprint (bound 1e-4 m, kDragSurfaceHeightError) and turns the velocities'
+  // phases: a patch's wet fraction moves by at most 1e-4 / (2 r) = 1e-3 (r = 5 cm), only along the
+  // waterline, and the velocities' decay exp(k (y - h)) by k 1e-4 = 2.7e-4: the sums within 1e-3.
+  const GerstnerWaves sea({{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                           {0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                           {0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
+  std::vector<DragPatch> patches;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      const double theta = 3.14159 * (i + 0.5) / 20.0, phi = 2.0 * 3.14159 * j / 20.0;
+      const Eigen::Vector3d n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      DragPatch patch;
+      patch.position = Eigen::Vector3f(float(0.6 * n.x()), float(0.3 * n.y()), float(0.5 * n.z()));
+      patch.areaVector = (0.004f * n).cast<float>();
+      patch.area = 0.0045f;
+      patch.radius = 0.05f;
+      patches.push_back(patch);
+    }
+  const DragPatchSet set = prepareDragPatches(patches);
+  DragBody body;
+  body.patches = patches;
+  body.prepared = &set;
+  for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
+  body.referenceLength = 1.2;
+  RigidBodyMotion motion = cube(200.0);
+  motion.meshPose.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0.5, 2).normalized()).toRotationMatrix();
+  motion.linearVelocity = {0.4, -0.2, 0.3};
+  motion.angularVelocity = {0.3, 0.9, -0.5};
+  const PerPatchSurface perPatch(sea);
+  const double dt = 1.0 / 60.0;
+  double worst = 0.0;
+  for (double time : {0.0, 1.3, 4.1, 7.7}) {
+    CAPTURE(time);
+    const double level = sea.surfaceHeight(2.0, -1.0, time);
+    motion.meshPose.translation = {2.0, level + 0.05, -1.0};
+    motion.center = motion.meshPose.translation;
+    const DragLiquid liquid{&sea, Eigen::Vector3d(0.1, 0.0, 0.05), 1e-3, time};
+    const DragLiquid reference{&perPatch, liquid.current, liquid.viscosity, time};
+    const DragLoads interpolated = rigidBodyDrag(body, motion, liquid, dt);
+    const DragLoads exact = rigidBodyDrag(body, motion, reference, dt);
+    REQUIRE(exact.force.norm() > 1.0);
+    CHECK(exact.patchesVisited > 50);
+    CHECK(exact.patchesVisited < patches.size());  // cut by the waterline
+    CHECK(interpolated.patchesVisited == exact.patchesVisited);
+    const double error = (interpolated.force - exact.force).norm() / exact.force.norm();
+    worst = std::max(worst, error);
+    CHECK(error <= 1e-3);
+    CHECK((interpolated.torque - exact.torque).norm() <= 1e-3 * exact.torque.norm());
+    CHECK(interpolated.wettedArea == Approx(exact.wettedArea).epsilon(1e-3));
+    // Above every crest (0.17 m) by more than the body's reach and a patch's radius: nothing.
+    motion.meshPose.translation.y() = 1.0;
+    motion.center = motion.meshPose.translation;
+    const DragLoads dry = rigidBodyDrag(body, motion, liquid, dt);
+    CHECK(dry.patchesVisited == 0);
+    CHECK(dry.force.isZero(0.0));
+  }
+  WARN("drag under waves, interpolated surface against per patch: worst force difference " << worst);
+}

@@ -28,6 +28,12 @@ Eigen::Vector3d LiquidSurface::velocityBelow(const Eigen::Vector3d& worldPoint, 
   return velocity(worldPoint, time);
 }
 
+void LiquidSurface::velocitiesBelow(std::span<const Eigen::Vector3d> points, std::span<const double> surfaceHeights,
+                                    double time, std::span<Eigen::Vector3d> out) const {
+  if (surfaceHeights.size() != points.size() || out.size() != points.size()) return;
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = velocityBelow(points[i], surfaceHeights[i], time);
+}
+
 double LiquidSurface::pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const {
   // Hydrostatic pressure under the local free surface: p = rho g (h - y), 0 above it.
   const double depth = surfaceHeight(worldPoint.x(), worldPoint.z(), time) - worldPoint.y();
@@ -241,6 +247,39 @@ Eigen::Vector3d GerstnerWaves::velocityBelow(const Eigen::Vector3d& worldPoint, 
     v.y() += c.amplitude * c.omega * std::sin(theta) * decay;
   }
   return v;
+}
+
+void GerstnerWaves::velocitiesBelow(std::span<const Eigen::Vector3d> points, std::span<const double> surfaceHeights,
+                                    double time, std::span<Eigen::Vector3d> out) const {
+  if (surfaceHeights.size() != points.size() || out.size() != points.size() || points.empty()) return;
+  for (std::size_t i = 0; i < points.size(); ++i) out[i].setZero();
+  const Eigen::Vector3d& first = points[0];
+  for (const Component& c : components_) {
+    // theta at the first point by sin and cos; at the others turned by k d . (p - p0) (velocityBelow's law).
+    const double theta0 = c.waveNumber * (c.dirX * first.x() + c.dirZ * first.z()) - c.omega * time + c.phase;
+    const double sine0 = std::sin(theta0), cosine0 = std::cos(theta0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d& p = points[i];
+      if (p.y() > surfaceHeights[i]) continue;  // above the surface: at rest
+      const double turn = c.waveNumber * (c.dirX * (p.x() - first.x()) + c.dirZ * (p.z() - first.z()));
+      double sine, cosine;
+      if (std::abs(turn) <= kRotationLimit) {
+        double s, co;
+        smallSineCosine(turn, s, co);
+        sine = sine0 * co + cosine0 * s;
+        cosine = cosine0 * co - sine0 * s;
+      } else {
+        const double theta = c.waveNumber * (c.dirX * p.x() + c.dirZ * p.z()) - c.omega * time + c.phase;
+        sine = std::sin(theta);
+        cosine = std::cos(theta);
+      }
+      const double decay = std::exp(c.waveNumber * (p.y() - surfaceHeights[i]));
+      const double horizontal = c.steepness * c.amplitude * c.omega * cosine * decay;
+      out[i].x() += horizontal * c.dirX;
+      out[i].z() += horizontal * c.dirZ;
+      out[i].y() += c.amplitude * c.omega * sine * decay;
+    }
+  }
 }
 
 Status GerstnerWaves::validate() const {

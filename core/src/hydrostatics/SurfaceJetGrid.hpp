@@ -38,6 +38,29 @@ class SurfaceJetGrid {
   /// Sample spacing in use (m).
   double spacing() const { return spacing_; }
 
+  /// Interpolated height alone (m, world) at the local point (x, z) (m, relative to the origin;
+  /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
+  /// patches). False as interpolate().
+  bool height(double x, double z, double& out) {
+    const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
+    const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
+    const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
+    const double t = gx - i, w = gz - j;
+    const double bt[4] = {(2 * t - 3) * t * t + 1, ((t - 2) * t + 1) * t, (3 - 2 * t) * t * t, (t - 1) * t * t};
+    const double bw[4] = {(2 * w - 3) * w * w + 1, ((w - 2) * w + 1) * w, (3 - 2 * w) * w * w, (w - 1) * w * w};
+    const double s = spacing_;
+    double sum = 0.0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const Node* n = node(i + a, j + b);
+        if (!n) return false;
+        sum += bt[2 * a] * (bw[2 * b] * n->f + bw[2 * b + 1] * s * n->fz) +
+               bt[2 * a + 1] * s * (bw[2 * b] * n->fx + bw[2 * b + 1] * s * n->fxz);
+      }
+    out = sum;
+    return true;
+  }
+
   /// Interpolated jet at the local point (x, z) (m, relative to the origin; clamped into the
   /// grid). False when a sample the point needs has no jet (the surface folds, or is not finite).
   bool interpolate(double x, double z, SurfaceJet& out) {
@@ -138,6 +161,13 @@ struct HermiteError {
 inline HermiteError hermiteError(double spacing, double fourth) {
   const double s2 = spacing * spacing;
   return {2.0 * s2 * s2 / 384.0 * fourth, 2.0 * 0.0080187537387 * s2 * spacing * fourth, 2.0 * s2 / 12.0 * fourth};
+}
+
+/// The widest sample spacing (m) whose hermiteError height bound is at most `heightError` (m) on a
+/// surface whose fourth directional derivative is at most `fourth` (1/m^3): s^4 = 384 e / (2 M4);
+/// infinite for a surface with no fourth derivative (a plane).
+inline double spacingForHeightError(double heightError, double fourth) {
+  return fourth > 0.0 ? std::pow(384.0 * heightError / (2.0 * fourth), 0.25) : INFINITY;
 }
 
 }  // namespace hydrotex::detail

@@ -121,7 +121,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   const double tolerance = surfaceModelTolerance_;
   double spacing = surfaceSampleSpacing_;
   if (!(spacing > 0.0))
-    spacing = smooth->fourth > 0.0 ? std::pow(384.0 * tolerance / 30.0 / (2.0 * smooth->fourth), 0.25) : INFINITY;
+    spacing = detail::spacingForHeightError(tolerance / 30.0, smooth->fourth);
   spacing = std::min(spacing, std::max(highX - lowX, highZ - lowZ));
   detail::SurfaceJetGrid grid(surface, q.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ, spacing);
   const detail::HermiteError interpolation = detail::hermiteError(grid.spacing(), smooth->fourth);

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -52,6 +53,12 @@ class LiquidSurface {
   /// the point (m): a surface whose velocity needs that height (waves) skips finding it again.
   /// The same bits as velocity(). Default: velocity(), the height unused.
   virtual Eigen::Vector3d velocityBelow(const Eigen::Vector3d& worldPoint, double surfaceHeight, double time) const;
+  /// velocityBelow() for `points.size()` nearby points at once, each with the surface height above
+  /// it (m), into `out` (same size): a surface may share work between the points (waves turn each
+  /// component's phase from the first point's instead of calling sin and cos; ~1e-16 relative
+  /// from velocityBelow()). Default: velocityBelow() per point. Spans of unequal sizes: nothing.
+  virtual void velocitiesBelow(std::span<const Eigen::Vector3d> points, std::span<const double> surfaceHeights,
+                               double time, std::span<Eigen::Vector3d> out) const;
 
   /// Gauge pressure (Pa) at a world point: rho g (surfaceHeight - y) below a free surface, 0 above
   /// it; for a medium without a free surface, the integral of rho(y) g from the point upwards (a
@@ -159,6 +166,9 @@ class GerstnerWaves final : public LiquidSurface {
   Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const override;
   /// velocity() from the given surface height above the point (no second search for it).
   Eigen::Vector3d velocityBelow(const Eigen::Vector3d& worldPoint, double surfaceHeight, double time) const override;
+  /// velocityBelow() per point, the phases turned from the first point's where the turn is small.
+  void velocitiesBelow(std::span<const Eigen::Vector3d> points, std::span<const double> surfaceHeights, double time,
+                       std::span<Eigen::Vector3d> out) const override;
   /// Nominal density (kg/m^3).
   double density() const override { return density_; }
   /// Error for a non-positive wavelength, negative amplitude, steepness outside [0, 1], NaN, or a
