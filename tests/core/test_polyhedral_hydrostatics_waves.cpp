@@ -356,3 +356,57 @@ TEST_CASE("Exact path under waves: a surface that answers NaN is an error naming
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().message.find("not finite") != std::string::npos);
 }
+
+namespace {
+
+// The surface of `inner` without its smoothness bound: the exact path then asks it per vertex.
+class PerVertexSurface final : public LiquidSurface {
+ public:
+  explicit PerVertexSurface(const LiquidSurface& inner) : inner_(inner) {}
+  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
+  double density() const override { return inner_.density(); }
+  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
+  Status validate() const override { return inner_.validate(); }
+
+ private:
+  const LiquidSurface& inner_;
+};
+
+}  // namespace
+
+TEST_CASE("Exact path under waves: vertex heights interpolated from surface jets stay within their bound",
+          "[hydrostatics][polyhedral][waves]") {
+  // A Wigley hull of 2,113 vertices (bench_peers' mesh: 4 x 0.4 x 0.25 m) needs fewer jets over
+  // its footprint than vertices, so its heights are interpolated (kExactWaveHeightError, 3.3e-6
+  // m). Each vertex's depth then moves by at most that, and the volume under the linearized
+  // surface by at most that times the water-plane area; the force by rho g times it. Against the
+  // same surface asked per vertex (no smoothness offered).
+  const Mesh hull = prim::wigleyHull(4.0, 0.4, 0.25, 64, 32);
+  REQUIRE(hull.positions.size() > 2000);
+  std::mt19937 random(19);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;
+  for (const Sea& sea : seas()) {
+    const PerVertexSurface perVertex(sea.waves);
+    for (int k = 0; k < 6; ++k) {
+      INFO(sea.name << " pose " << k);
+      HydrostaticsQuery query;
+      query.time = 10.0 * unit(random);
+      const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.1 * (unit(random) - 0.5), Eigen::Vector3d::UnitX()).toRotationMatrix() *
+                                   rotationAboutY(6.3 * unit(random));
+      const double x = 5.0 * unit(random), z = -5.0 * unit(random);
+      query.pose = Pose{tilt, Eigen::Vector3d(x, sea.waves.surfaceHeight(x, z, query.time) + 0.1 * unit(random), z)};
+      query.gravity = kG;
+      const HydrostaticsResult interpolated = exactAnswer(hull, sea.waves, query);
+      const HydrostaticsResult asked = exactAnswer(hull, perVertex, query);
+      REQUIRE(asked.submergedVolume > 0.0);
+      const double bound = kExactWaveHeightError * asked.waterplaneArea;
+      const double error = std::abs(interpolated.submergedVolume - asked.submergedVolume);
+      worst = std::max(worst, error / bound);
+      CHECK(error <= bound);
+      const double rhoG = sea.waves.density() * kG;
+      CHECK((interpolated.buoyancyForce - asked.buoyancyForce).norm() <= 2.0 * rhoG * bound);
+    }
+  }
+  WARN("exact path under waves, interpolated vertex heights: worst volume difference " << worst << " of its bound");
+}

@@ -273,7 +273,8 @@ double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurf
   }
   const Eigen::Vector3d e = upper - lower;
   const double largestFace = std::max({e.x() * e.y(), e.y() * e.z(), e.x() * e.z()});
-  return *curvature * longest / 8.0 * largestFace / volume;
+  // The vertices' heights may be interpolated too (polyhedralHydrostaticsUnchecked): their bound adds.
+  return (*curvature * longest / 8.0 + kExactWaveHeightError) * largestFace / volume;
 }
 
 }  // namespace hydrotex

@@ -20,11 +20,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hydrostatics/HydrostaticSums.hpp"
 #include "hydrostatics/PolyhedralFlatSums.hpp"
+#include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrotex/mesh/MeshValidation.hpp"
 
 namespace hydrotex {
@@ -338,9 +340,28 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
     const double highest = surface.heightRange(query.time).second - origin.y();
     std::vector<SurfaceVertex>& vertices = surfaceVertexScratch();
     vertices.resize(positions.size());
+    double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
     for (std::size_t v = 0; v < positions.size(); ++v) {
       const Eigen::Vector3d w = rotation * positions[v] + offset;
       vertices[v] = {w.x(), w.y(), w.z(), std::numeric_limits<double>::quiet_NaN()};
+      lowX = std::min(lowX, w.x());
+      highX = std::max(highX, w.x());
+      lowZ = std::min(lowZ, w.z());
+      highZ = std::max(highZ, w.z());
+    }
+    // The heights from jets over the footprint where that takes fewer surface samples than the
+    // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
+    std::optional<detail::SurfaceJetGrid> grid;
+    const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
+    if (smooth && std::isfinite(smooth->fourth) && smooth->fourth >= 0.0 &&
+        std::isfinite(lowX + highX + lowZ + highZ)) {
+      const double extent = std::max(highX - lowX, highZ - lowZ);
+      const double spacing = std::min(detail::spacingForHeightError(kExactWaveHeightError, smooth->fourth), extent);
+      const double samples = (std::ceil((highX - lowX) / spacing) + 1.0) * (std::ceil((highZ - lowZ) / spacing) + 1.0);
+      if (spacing > 0.0 && samples < double(positions.size())) {
+        grid.emplace(surface, query.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ, spacing);
+        if (!(detail::hermiteError(grid->spacing(), smooth->fourth).height <= kExactWaveHeightError)) grid.reset();
+      }
     }
     for (const Eigen::Vector3i& t : mesh.triangles) {
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
@@ -351,7 +372,8 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
         if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
           return Error{"exact hydrostatics: vertex " + std::to_string(t[c]) + " of the mesh is not finite"};
         const double x = vertex.x + origin.x(), z = vertex.z + origin.z();
-        const double height = surface.surfaceHeight(x, z, query.time);
+        double height;
+        if (!grid || !grid->height(vertex.x, vertex.z, height)) height = surface.surfaceHeight(x, z, query.time);
         if (!std::isfinite(height))
           return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
                        " m) at (x, z) = (" + std::to_string(x) + ", " + std::to_string(z) + ") m, above vertex " +

@@ -163,7 +163,8 @@ std::optional<double> surfaceCurvatureBound(const LiquidSurface& surface);
 
 /// Relative volume error (of the body's volume) that the exact path's linearization of `surface`
 /// between the mesh's vertices may make: M2 e^2 / 8 (the largest height error of the linear
-/// interpolant over an edge of length e, M2 = surfaceCurvatureBound) times the body's largest
+/// interpolant over an edge of length e, M2 = surfaceCurvatureBound), plus kExactWaveHeightError
+/// (the vertices' heights may be interpolated), times the body's largest
 /// bounding-box face (a bound of its water-plane area), over its volume. 0 under a flat surface
 /// or a medium; +infinity when the curvature is unknown.
 double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurface& surface);

@@ -14,6 +14,11 @@
 
 namespace hydrotex {
 
+/// Height error bound (m) of the surface heights the exact path interpolates under waves (see
+/// polyhedralHydrostaticsUnchecked): the texture path's default for its own interpolated heights
+/// (a thirtieth of its 1e-4 m model tolerance), so both paths see the surface alike.
+inline constexpr double kExactWaveHeightError = 1e-4 / 30.0;
+
 /// Exact hydrostatics of `mesh` (body frame, m) posed by `query` in `surface`.
 /// Surfaces:
 /// - flat (flatHeight()): exact; the force is Archimedes' rho g V up (N) at the centre of buoyancy.
@@ -45,7 +50,10 @@ Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const Liqu
 /// queried every step is faster still on a PreparedPolyhedron (PreparedPolyhedron.hpp: the checks
 /// made once, each triangle's constants kept; the same bits). Under other free surfaces a
 /// per-thread scratch of one entry per vertex (32 bytes) grows likewise; the cost is then
-/// dominated by the surface's height queries, one per vertex that may be wet.
+/// dominated by the surface's height queries, one per vertex that may be wet, unless the surface
+/// offers jets and a smoothness bound (Gerstner waves) and a grid of jets over the body's footprint
+/// at kExactWaveHeightError needs fewer samples than the mesh has vertices: the vertices' heights
+/// are then interpolated from it (bicubic Hermite, as the texture path's hierarchy).
 Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
 
