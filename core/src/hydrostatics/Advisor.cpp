@@ -143,7 +143,7 @@ double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triang
   const double r = double(resolution);
   switch (method) {
     case HydrostaticsMethod::Exact:
-      return 1.0 + 0.02 * double(triangles);
+      return 0.5 + 0.006 * double(triangles);
     case HydrostaticsMethod::TextureHierarchy:
       return 2.0 + 0.12 * r;
     case HydrostaticsMethod::TextureBruteForce:

@@ -92,12 +92,14 @@ struct TimingSettings {
 };
 
 /// A model of the time of one query (us) in flat water, for choices that must not depend on the
-/// machine or its load: the exact path 1 + 0.02 T for a mesh of T triangles (it clips every
+/// machine or its load: the exact path 0.5 + 0.006 T for a mesh of T triangles (it clips every
 /// triangle), the texture path's tile hierarchy 2 + 0.12 R at R texels a side (it visits the tiles
-/// the waterline crosses, about R of them; the brute force 0.02 R^2). Fitted to bench_hydrostatics
-/// on the 2-core reference machine (2026-11): the exact path 18-24 ns a triangle over icospheres of
-/// 1,280 to 327,680 triangles; the hierarchy 20-50 us at 256^2 and 175-380 us at 1024^2-2048^2.
-/// A ranking, not a prediction of one machine's time.
+/// the waterline crosses, about R of them; the brute force 0.02 R^2). The exact path's figure is
+/// what a body stepped by the controller runs, a PreparedPolyhedron: 4-8 ns a triangle on
+/// bench_peers' box, 320-face hull, Wigley hull and 17,160-triangle sphere (2-core reference
+/// machine, 2026-11; the unprepared call is 12-24 ns). The hierarchy: 20-50 us at 256^2 and
+/// 175-380 us at 1024^2-2048^2 on bench_hydrostatics' icospheres, 27-94 us at 256^2 on
+/// bench_peers' bodies. A ranking, not a prediction of one machine's time.
 double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution);
 
 /// Median over `settings.runs` batches of the mean wall time of one call of `work` (s), on the
