@@ -352,17 +352,8 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
     // The heights from jets over the footprint where that takes fewer surface samples than the
     // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
     std::optional<detail::SurfaceJetGrid> grid;
-    const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
-    if (smooth && std::isfinite(smooth->fourth) && smooth->fourth >= 0.0 &&
-        std::isfinite(lowX + highX + lowZ + highZ)) {
-      const double extent = std::max(highX - lowX, highZ - lowZ);
-      const double spacing = std::min(detail::spacingForHeightError(kExactWaveHeightError, smooth->fourth), extent);
-      const double samples = (std::ceil((highX - lowX) / spacing) + 1.0) * (std::ceil((highZ - lowZ) / spacing) + 1.0);
-      if (spacing > 0.0 && samples < double(positions.size())) {
-        grid.emplace(surface, query.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ, spacing);
-        if (!(detail::hermiteError(grid->spacing(), smooth->fourth).height <= kExactWaveHeightError)) grid.reset();
-      }
-    }
+    detail::emplaceSurfaceJetGrid(grid, surface, query.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ,
+                                  kExactWaveHeightError, double(positions.size()));
     for (const Eigen::Vector3i& t : mesh.triangles) {
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
       if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 
@@ -168,6 +169,26 @@ inline HermiteError hermiteError(double spacing, double fourth) {
 /// infinite for a surface with no fourth derivative (a plane).
 inline double spacingForHeightError(double heightError, double fourth) {
   return fourth > 0.0 ? std::pow(384.0 * heightError / (2.0 * fourth), 0.25) : INFINITY;
+}
+
+/// Emplaces into `grid` jets over the local box [lowX, highX] x [lowZ, highZ] (m, relative to
+/// (originX, originZ), world) as far apart as a height error of `heightError` (m) allows, when the
+/// surface offers a smoothness bound and the box is finite and needs fewer than `maxSamples`
+/// samples; leaves it empty otherwise, or when kMaxSide samples a side cannot meet the bound: the
+/// caller then asks the surface per point. The exact path, rigid drag and soft drag use it under
+/// waves.
+inline void emplaceSurfaceJetGrid(std::optional<SurfaceJetGrid>& grid, const LiquidSurface& surface, double time,
+                                  double originX, double originZ, double lowX, double highX, double lowZ, double highZ,
+                                  double heightError, double maxSamples = INFINITY) {
+  const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
+  if (!smooth || !std::isfinite(smooth->fourth) || !(smooth->fourth >= 0.0)) return;
+  if (!std::isfinite(lowX + highX + lowZ + highZ + originX + originZ) || !(highX >= lowX) || !(highZ >= lowZ)) return;
+  const double spacing = std::min(spacingForHeightError(heightError, smooth->fourth), std::max(highX - lowX, highZ - lowZ));
+  if (!(spacing > 0.0)) return;
+  const double samples = (std::ceil((highX - lowX) / spacing) + 1.0) * (std::ceil((highZ - lowZ) / spacing) + 1.0);
+  if (!(samples < maxSamples)) return;
+  grid.emplace(surface, time, originX, originZ, lowX, highX, lowZ, highZ, spacing);
+  if (!(hermiteError(grid->spacing(), smooth->fourth).height <= heightError)) grid.reset();
 }
 
 }  // namespace hydrotex::detail

@@ -67,13 +67,6 @@ Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
   return block.inverse();
 }
 
-/// Height error (m) allowed where drag interpolates the surface above its patches: a tenth of a
-/// millimetre moves a patch's wet fraction (wetFractionOf, a ramp as wide as its radius) by under
-/// 1e-4 / (2 radius), 0.5 % for a 1 cm patch and only at the waterline: far under the drag law's
-/// own uncertainty (empirical coefficients). Asking for 1e-5 m instead costs a floating box on
-/// bench_peers' three waves 52 instead of 42 us of drag (before the batched velocities).
-constexpr double kDragSurfaceHeightError = 1e-4;
-
 /// Emplaces into `grid` the surface jets drag interpolates over the footprint of `set` posed at
 /// (rotation, translation), in the frame translated by `translation` horizontally; leaves it empty when
 /// the surface offers no smoothness bound or the footprint is too wide for kMaxSide samples to
@@ -81,8 +74,6 @@ constexpr double kDragSurfaceHeightError = 1e-4;
 void emplaceDragSurfaceGrid(const LiquidSurface& surface, double time, const DragPatchSet& set,
                             const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
                             std::optional<detail::SurfaceJetGrid>& grid) {
-  const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
-  if (!smooth || !std::isfinite(smooth->fourth) || !(smooth->fourth >= 0.0) || set.clusters.empty()) return;
   double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
   for (const DragPatchSet::Cluster& cluster : set.clusters) {
     // Each patch lies within the cluster's radius of its centre; the engine's rotation is
@@ -94,12 +85,8 @@ void emplaceDragSurfaceGrid(const LiquidSurface& surface, double time, const Dra
     lowZ = std::min(lowZ, c.z() - reach);
     highZ = std::max(highZ, c.z() + reach);
   }
-  if (!std::isfinite(lowX + highX + lowZ + highZ) || !translation.allFinite()) return;
-  const double extent = std::max(highX - lowX, highZ - lowZ);
-  const double spacing = std::min(detail::spacingForHeightError(kDragSurfaceHeightError, smooth->fourth), extent);
-  if (!(spacing > 0.0)) return;
-  grid.emplace(surface, time, translation.x(), translation.z(), lowX, highX, lowZ, highZ, spacing);
-  if (!(detail::hermiteError(grid->spacing(), smooth->fourth).height <= kDragSurfaceHeightError)) grid.reset();
+  detail::emplaceSurfaceJetGrid(grid, surface, time, translation.x(), translation.z(), lowX, highX, lowZ, highZ,
+                                detail::kDragSurfaceHeightError);
 }
 
 }  // namespace

@@ -23,7 +23,10 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
+#include "hydrostatics/SurfaceJetGrid.hpp"
+#include "hydrostatics/TexelDragLaw.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
 namespace hydrotex {
@@ -44,12 +47,48 @@ SoftBodyDragResult SoftBodyDrag::step(const SoftBodyDragInput& input, std::span<
   deformationChange_.resize(vertexCount);
   for (Eigen::Vector3d& change : velocityChange) change.setZero();
 
+  // The liquid's velocity at every vertex, into relative_ first. Under a free surface in motion
+  // the surface height above each vertex, from jets over the vertices' footprint where the surface
+  // offers them (waves: a Newton search per vertex otherwise; as the rigid bodies' drag), then
+  // velocitiesBelow for all vertices at once.
+  if (still) {
+    for (std::size_t n = 0; n < vertexCount; ++n) relative_[n] = input.current;
+  } else if (uniform) {
+    surfaceHeights_.resize(vertexCount);
+    const std::optional<double> flat = surface.flatHeight();
+    std::optional<detail::SurfaceJetGrid> grid;
+    if (!flat && vertexCount > 0) {
+      double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
+      for (const Eigen::Vector3d& x : mesh.positions) {
+        lowX = std::min(lowX, x.x());
+        highX = std::max(highX, x.x());
+        lowZ = std::min(lowZ, x.z());
+        highZ = std::max(highZ, x.z());
+      }
+      const Eigen::Vector3d& first = mesh.positions.front();
+      detail::emplaceSurfaceJetGrid(grid, surface, time, first.x(), first.z(), lowX - first.x(), highX - first.x(),
+                                    lowZ - first.z(), highZ - first.z(), detail::kDragSurfaceHeightError,
+                                    double(vertexCount));
+    }
+    for (std::size_t n = 0; n < vertexCount; ++n) {
+      const Eigen::Vector3d& x = mesh.positions[n];
+      double height;
+      if (flat) height = *flat;
+      else if (!grid || !grid->height(x.x() - mesh.positions.front().x(), x.z() - mesh.positions.front().z(), height))
+        height = surface.surfaceHeight(x.x(), x.z(), time);
+      surfaceHeights_[n] = height;
+    }
+    surface.velocitiesBelow(mesh.positions, surfaceHeights_, time, relative_);
+    for (std::size_t n = 0; n < vertexCount; ++n) relative_[n] += input.current;
+  } else {
+    for (std::size_t n = 0; n < vertexCount; ++n) relative_[n] = surface.velocity(mesh.positions[n], time) + input.current;
+  }
+
   double mass = 0.0;
   Eigen::Vector3d center = Eigen::Vector3d::Zero(), momentum = Eigen::Vector3d::Zero();
   for (std::size_t n = 0; n < vertexCount; ++n) {
     const Eigen::Vector3d& x = mesh.positions[n];
-    const Eigen::Vector3d liquidVelocity = still ? input.current : Eigen::Vector3d(surface.velocity(x, time) + input.current);
-    relative_[n] = input.vertexVelocity[n] - liquidVelocity;
+    relative_[n] = input.vertexVelocity[n] - relative_[n];
     const double m = input.vertexMass[n];
     mass += m;
     center += m * x;

@@ -60,6 +60,7 @@ class SoftBodyDrag {
 
  private:
   std::vector<Eigen::Vector3d> relative_;        ///< m/s, vertex velocity relative to the liquid
+  std::vector<double> surfaceHeights_;           ///< m, the surface above each vertex (under a free surface in motion)
   std::vector<Eigen::Vector3d> vertexDrag_;      ///< N, the texels' drag handed to the vertices
   std::vector<Eigen::Vector3d> deformationChange_;  ///< m/s, drag's change of the vertex's deformation velocity
 };
