@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 
 using namespace hydrotex;
@@ -130,12 +131,10 @@ TEST_CASE("Gerstner orbital velocities decay as exp(k depth) and vanish above th
 }
 
 TEST_CASE("Gerstner velocities for a batch of points are velocityBelow's, phases turned from the first", "[liquid][gerstner]") {
-  // peers_waves.json's three waves. Points near the first (turns under kRotationLimit, where the
+  // peers_waves.json's three waves (the shared "swell"). Points near the first (turns under kRotationLimit, where the
   // Taylor rotation replaces sin and cos) and far from it (sin and cos again), below and above
   // the surface. The turned phases differ from fresh ones by rounding: ~1e-16 rad per turn.
-  const GerstnerWaves sea({{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                           {0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
-                           {0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
+  const GerstnerWaves sea = hydrotex::test::gerstnerSeas().front().waves;  // "swell"
   const double t = 3.7;
   std::vector<Eigen::Vector3d> points;
   std::vector<double> heights;

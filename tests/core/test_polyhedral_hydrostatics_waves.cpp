@@ -357,23 +357,6 @@ TEST_CASE("Exact path under waves: a surface that answers NaN is an error naming
   CHECK(r.error().message.find("not finite") != std::string::npos);
 }
 
-namespace {
-
-// The surface of `inner` without its smoothness bound: the exact path then asks it per vertex.
-class PerVertexSurface final : public LiquidSurface {
- public:
-  explicit PerVertexSurface(const LiquidSurface& inner) : inner_(inner) {}
-  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
-  double density() const override { return inner_.density(); }
-  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
-  Status validate() const override { return inner_.validate(); }
-
- private:
-  const LiquidSurface& inner_;
-};
-
-}  // namespace
-
 TEST_CASE("Exact path under waves: vertex heights interpolated from surface jets stay within their bound",
           "[hydrostatics][polyhedral][waves]") {
   // A Wigley hull of 2,113 vertices (bench_peers' mesh: 4 x 0.4 x 0.25 m) needs fewer jets over
@@ -387,7 +370,7 @@ TEST_CASE("Exact path under waves: vertex heights interpolated from surface jets
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double worst = 0.0;
   for (const Sea& sea : seas()) {
-    const PerVertexSurface perVertex(sea.waves);
+    const hydrotex::test::SurfaceWithoutSmoothness perVertex(sea.waves);
     for (int k = 0; k < 6; ++k) {
       INFO(sea.name << " pose " << k);
       HydrostaticsQuery query;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -361,37 +362,14 @@ TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipp
   CHECK(given.damping == unprepared.damping);
 }
 
-namespace {
-
-// The surface of `inner` without its smoothness bound: drag then asks the surface per patch.
-class PerPatchSurface final : public LiquidSurface {
- public:
-  explicit PerPatchSurface(const LiquidSurface& inner) : inner_(inner) {}
-  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
-  Eigen::Vector3d velocity(const Eigen::Vector3d& p, double time) const override { return inner_.velocity(p, time); }
-  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& p, double h, double time) const override {
-    return inner_.velocityBelow(p, h, time);
-  }
-  double density() const override { return inner_.density(); }
-  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
-  Status validate() const override { return inner_.validate(); }
-
- private:
-  const LiquidSurface& inner_;
-};
-
-}  // namespace
-
 TEST_CASE("under waves drag interpolates the surface above its patches within its bound", "[step][drag][waves]") {
-  // peers_waves.json's three waves and a current; a tilted, spinning body of 400 patches on a
+  // peers_waves.json's three waves (the shared "swell") and a current; a tilted, spinning body of 400 patches on a
   // 1.2 m ellipsoid cut by the waterline. The reference asks the surface's height and velocity
   // per patch (exact to the search's 1e-9 m). rigidBodyDrag interpolates the height from surface
   // jets over the footprint (bound 1e-4 m, kDragSurfaceHeightError) and turns the velocities'
   // phases: a patch's wet fraction moves by at most 1e-4 / (2 r) = 1e-3 (r = 5 cm), only along the
   // waterline, and the velocities' decay exp(k (y - h)) by k 1e-4 = 2.7e-4: the sums within 1e-3.
-  const GerstnerWaves sea({{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                           {0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
-                           {0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
+  const GerstnerWaves sea = hydrotex::test::gerstnerSeas().front().waves;  // "swell"
   std::vector<DragPatch> patches;
   for (int i = 0; i < 20; ++i)
     for (int j = 0; j < 20; ++j) {
@@ -414,7 +392,7 @@ TEST_CASE("under waves drag interpolates the surface above its patches within it
   motion.meshPose.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0.5, 2).normalized()).toRotationMatrix();
   motion.linearVelocity = {0.4, -0.2, 0.3};
   motion.angularVelocity = {0.3, 0.9, -0.5};
-  const PerPatchSurface perPatch(sea);
+  const hydrotex::test::SurfaceWithoutSmoothness perPatch(sea);
   const double dt = 1.0 / 60.0;
   double worst = 0.0;
   for (double time : {0.0, 1.3, 4.1, 7.7}) {

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/TexelPressure.hpp"
@@ -117,37 +118,14 @@ TEST_CASE("soft body drag: vertices at rest in the liquid and pinned vertices ge
   for (std::size_t n = 1; n < count; ++n) CHECK(change[n].y() > 0.0);  // slowed: against the downward motion
 }
 
-namespace {
-
-// The surface of `inner` without its smoothness bound: drag then asks its height per vertex.
-class PerVertexSurface final : public LiquidSurface {
- public:
-  explicit PerVertexSurface(const LiquidSurface& inner) : inner_(inner) {}
-  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
-  Eigen::Vector3d velocity(const Eigen::Vector3d& p, double time) const override { return inner_.velocity(p, time); }
-  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& p, double h, double time) const override {
-    return inner_.velocityBelow(p, h, time);
-  }
-  double density() const override { return inner_.density(); }
-  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
-  Status validate() const override { return inner_.validate(); }
-
- private:
-  const LiquidSurface& inner_;
-};
-
-}  // namespace
-
 TEST_CASE("soft body drag under waves: the surface interpolated above the vertices within its bound", "[step][drag][waves]") {
   // A 642-vertex icosphere (radius 0.5 m) held 0.8 m under peers_waves.json's three waves, its
   // vertices at rest: the drag is the orbital motion's. The surface above each vertex comes from
   // jets over the footprint (bound kDragSurfaceHeightError, 1e-4 m) instead of a Newton search per
   // vertex; the orbital velocities' decay exp(k (y - h)) then moves by at most k 1e-4 = 2.7e-4
   // (k of the 2.3 m wave), so force and velocity changes stay within 1e-3 of the per-vertex answer.
-  const GerstnerWaves sea({{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
-                           {0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
-                           {0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}});
-  const PerVertexSurface perVertex(sea);
+  const GerstnerWaves sea = hydrotex::test::gerstnerSeas().front().waves;  // "swell"
+  const hydrotex::test::SurfaceWithoutSmoothness perVertex(sea);
   const double time = 2.6;
   Mesh ball = primitives::icosphere(0.5, 3);
   for (Eigen::Vector3d& p : ball.positions) p += Eigen::Vector3d(1.5, -0.8, -0.7);

@@ -2,6 +2,7 @@
 #pragma once
 // Surface textures that several suites bake the same way.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hydrotex/bake/SurfaceBake.hpp"
@@ -35,4 +36,22 @@ struct Sea {
 /// waves (data/scenes/log_waves.json: two components, 0.3 m at 12 m and 0.1 m at 5 m, in sea
 /// water), and the GL parity test's three steep crossing waves (sum Q k A = 0.38).
 std::vector<Sea> gerstnerSeas();
+/// The surface `inner` without its smoothness bound (and so without the jets' grid): the exact
+/// path, rigid and soft drag then ask its height per vertex or patch, the reference for what they
+/// interpolate. `inner` must outlive it.
+class SurfaceWithoutSmoothness final : public LiquidSurface {
+ public:
+  explicit SurfaceWithoutSmoothness(const LiquidSurface& inner) : inner_(inner) {}
+  double surfaceHeight(double x, double z, double time) const override { return inner_.surfaceHeight(x, z, time); }
+  Eigen::Vector3d velocity(const Eigen::Vector3d& p, double time) const override { return inner_.velocity(p, time); }
+  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& p, double height, double time) const override {
+    return inner_.velocityBelow(p, height, time);
+  }
+  double density() const override { return inner_.density(); }
+  std::pair<double, double> heightRange(double time) const override { return inner_.heightRange(time); }
+  Status validate() const override { return inner_.validate(); }
+
+ private:
+  const LiquidSurface& inner_;
+};
 }  // namespace hydrotex::test
