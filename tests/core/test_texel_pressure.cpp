@@ -6,9 +6,11 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "TestSurfaces.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -112,4 +114,35 @@ TEST_CASE("texel pressures in a medium are the medium's pressure, wholly wet", "
     CHECK(wet[i] == 1.0f);
     CHECK(pressure[i] == float(air.pressure(s.textures.position[i].cast<double>(), 0.0, 9.81)));
   }
+}
+
+TEST_CASE("texel pressures under waves: the surface interpolated above the texels within its bound",
+          "[texel_pressure][waves]") {
+  // A 0.5 m icosphere floating in the shared "swell" at 64^2 (~3,000 texels, far more than the
+  // jets over its footprint): the surface above each texel is interpolated within
+  // kExactWaveHeightError (3.3e-6 m). Each texel's wet depth then moves by at most that, so its
+  // pressure by rho g e (0.03 Pa) beside float rounding, and the submerged volume by at most e
+  // times the water-plane area (pi r^2). Against the same sea asked per texel.
+  const GerstnerWaves sea = hydrotex::test::gerstnerSeas().front().waves;
+  const hydrotex::test::SurfaceWithoutSmoothness perTexel(sea);
+  const double g = 9.81, time = 5.3, radius = 0.5;
+  const Eigen::Vector3d center(1.0, sea.surfaceHeight(1.0, 2.0, time) - 0.1, 2.0);
+  const PosedSurface s = pose(primitives::icosphere(radius, 3), Eigen::Matrix3d::Identity(), center, 64);
+  const std::size_t count = s.textures.position.size();
+  REQUIRE(count > 2000);
+  std::vector<float> pressure(count), wet(count), askedPressure(count), askedWet(count);
+  const TexelPressureSums interpolated = texelPressures(s.textures, sea, time, g, pressure, wet);
+  const TexelPressureSums asked = texelPressures(s.textures, perTexel, time, g, askedPressure, askedWet);
+  const double e = kExactWaveHeightError, rhoG = sea.density() * g;
+  REQUIRE(asked.submergedVolume > 0.1);
+  CHECK(interpolated.submergedVolume != asked.submergedVolume);  // interpolated: not the per-texel bits
+  CHECK(std::abs(interpolated.submergedVolume - asked.submergedVolume) <= e * 3.14159265 * radius * radius);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double difference = std::abs(double(pressure[i]) - double(askedPressure[i]));
+    worst = std::max(worst, difference);
+    CHECK(difference <= rhoG * e + 1e-6 * std::abs(double(askedPressure[i])));
+  }
+  WARN("texel pressures under waves, interpolated surface against per texel: worst " << worst << " Pa (bound "
+                                                                                     << rhoG * e << " Pa)");
 }

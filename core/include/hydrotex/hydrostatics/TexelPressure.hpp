@@ -28,7 +28,9 @@ struct TexelPressureSums {
 /// Pressure (Pa) and wet fraction (0..1) of every texel of `worldTextures` (positions, area
 /// vectors and edges in the world frame, m) in `surface` at `time` (s) under gravity `gravity`
 /// (m/s^2, along -y): with a free surface p = rho g (mean depth of the texel's wet part), the depth
-/// measured from the surface height above the texel's centre; in a medium, the medium's pressure
+/// measured from the surface height above the texel's centre (under Gerstner waves interpolated
+/// from surface jets within kExactWaveHeightError where that takes fewer samples than there are
+/// texels); in a medium, the medium's pressure
 /// at the texel, wholly wet. `pressure` and `wetFraction` hold one entry per texel. A surface that
 /// answers NaN gives that texel NaN pressure (the caller skips it).
 TexelPressureSums texelPressures(const SurfaceTextures& worldTextures, const LiquidSurface& surface, double time,
