@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -368,6 +369,19 @@ MixedPass runMixed(const Scene& base, int bodies, int threads, int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Every argument is a known option followed by its value; --help prints the options.
+  static const char* const kOptions[] = {"--runs", "--steps", "--csv", "--bodies", "--methods", "--surfaces", "--mixed"};
+  for (int i = 1; i < argc; i += 2) {
+    const std::string argument = argv[i];
+    const bool known = std::find(std::begin(kOptions), std::end(kOptions), argument) != std::end(kOptions);
+    if (argument == "--help" || argument == "-h" || !known || i + 1 >= argc) {
+      std::printf("usage: bench_peers [--runs N] [--steps S] [--csv FILE] [--bodies box,hull,sphere,mesh]\n"
+                  "                   [--methods exact,texture,auto] [--surfaces flat,waves] [--mixed N]\n");
+      if (argument == "--help" || argument == "-h") return 0;
+      std::fprintf(stderr, "bench_peers: %s '%s'\n", known ? "no value after" : "unknown option", argument.c_str());
+      return 2;
+    }
+  }
   const int runs = std::stoi(option(argc, argv, "--runs", "5"));
   const int steps = std::stoi(option(argc, argv, "--steps", "60"));
   const std::string csvPath = option(argc, argv, "--csv", "bench_peers.csv");
