@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "TestSurfaces.hpp"
@@ -145,4 +146,18 @@ TEST_CASE("texel pressures under waves: the surface interpolated above the texel
   }
   WARN("texel pressures under waves, interpolated surface against per texel: worst " << worst << " Pa (bound "
                                                                                      << rhoG * e << " Pa)");
+  // A texel whose position is NaN (a soft body torn apart) is not looked up in the grid (a NaN
+  // point has no cell): it gets what asking the surface per texel gives it, and the others keep
+  // their interpolated pressures.
+  SurfaceTextures broken = s.textures;
+  const std::size_t bad = count / 2;
+  broken.position[bad] = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+  std::vector<float> brokenPressure(count), brokenWet(count), brokenAsked(count), brokenAskedWet(count);
+  texelPressures(broken, sea, time, g, brokenPressure, brokenWet);
+  texelPressures(broken, perTexel, time, g, brokenAsked, brokenAskedWet);
+  CHECK(std::isnan(brokenPressure[bad]) == std::isnan(brokenAsked[bad]));
+  if (!std::isnan(brokenAsked[bad])) CHECK(brokenPressure[bad] == brokenAsked[bad]);
+  CHECK(brokenWet[bad] == brokenAskedWet[bad]);
+  CHECK(brokenPressure[bad + 1] == pressure[bad + 1]);
+  CHECK(brokenPressure[0] == pressure[0]);
 }

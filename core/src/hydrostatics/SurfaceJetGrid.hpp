@@ -43,6 +43,7 @@ class SurfaceJetGrid {
   /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
   /// patches). False as interpolate().
   bool height(double x, double z, double& out) {
+    if (!std::isfinite(x) || !std::isfinite(z)) return false;  // a NaN point has no cell (int(NaN) is undefined)
     const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
     const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
     const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
@@ -63,8 +64,10 @@ class SurfaceJetGrid {
   }
 
   /// Interpolated jet at the local point (x, z) (m, relative to the origin; clamped into the
-  /// grid). False when a sample the point needs has no jet (the surface folds, or is not finite).
+  /// grid). False when a sample the point needs has no jet (the surface folds, or is not finite),
+  /// or the point is not finite.
   bool interpolate(double x, double z, SurfaceJet& out) {
+    if (!std::isfinite(x) || !std::isfinite(z)) return false;  // a NaN point has no cell (int(NaN) is undefined)
     const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
     const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
     const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
