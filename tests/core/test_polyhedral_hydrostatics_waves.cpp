@@ -368,7 +368,7 @@ TEST_CASE("Exact path under waves: vertex heights interpolated from surface jets
   REQUIRE(hull.positions.size() > 2000);
   std::mt19937 random(19);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  double worst = 0.0;
+  double worst = 0.0, worstForce = 0.0;
   for (const Sea& sea : seas()) {
     const hydrotex::test::SurfaceWithoutSmoothness perVertex(sea.waves);
     for (int k = 0; k < 6; ++k) {
@@ -388,8 +388,12 @@ TEST_CASE("Exact path under waves: vertex heights interpolated from surface jets
       worst = std::max(worst, error / bound);
       CHECK(error <= bound);
       const double rhoG = sea.waves.density() * kG;
-      CHECK((interpolated.buoyancyForce - asked.buoyancyForce).norm() <= 2.0 * rhoG * bound);
+      const double forceError = (interpolated.buoyancyForce - asked.buoyancyForce).norm() / (rhoG * bound);
+      worstForce = std::max(worstForce, forceError);
+      CHECK(forceError <= 1.0);
     }
   }
-  WARN("exact path under waves, interpolated vertex heights: worst volume difference " << worst << " of its bound");
+  CHECK(worst > 0.0);  // the heights were interpolated: not the per-vertex bits
+  WARN("exact path under waves, interpolated vertex heights: worst volume difference " << worst
+                                                                                        << " of its bound, force " << worstForce);
 }

@@ -22,6 +22,33 @@ using namespace hydrotex;
 
 namespace {
 
+/// Each triangle's area vector (m^2) of `mesh`.
+std::vector<Eigen::Vector3d> triangleAreaVectors(const Mesh& mesh) {
+  std::vector<Eigen::Vector3d> areaVectors;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.positions[std::size_t(t[0])];
+    areaVectors.push_back(0.5 * (mesh.positions[std::size_t(t[1])] - a).cross(mesh.positions[std::size_t(t[2])] - a));
+  }
+  return areaVectors;
+}
+
+/// SoftBodyDrag's input for `geometry` (the spans must outlive it), default coefficients.
+SoftBodyDragInput dragInput(const BodyGeometry& geometry, const std::vector<float>& wet,
+                            const std::vector<Eigen::Vector3d>& areaVectors, const std::vector<Eigen::Vector3d>& velocity,
+                            const std::vector<double>& mass, const LiquidSurface& surface, double dt) {
+  SoftBodyDragInput in;
+  in.mesh = &geometry.mesh;
+  in.bake = &geometry.bake;
+  in.textures = &geometry.textures;
+  in.wetFraction = wet;
+  in.triangleAreaVectors = areaVectors;
+  in.vertexVelocity = velocity;
+  in.vertexMass = mass;
+  in.surface = &surface;
+  in.dt = dt;
+  return in;
+}
+
 /// A 1 x 0.5 x 0.8 m box baked at 64^2, wholly under a flat surface 10 m above it.
 struct SubmergedBox {
   BodyGeometry geometry;
@@ -38,25 +65,12 @@ struct SubmergedBox {
     pressure.resize(geometry.textures.size());
     wet.resize(geometry.textures.size());
     texelPressures(geometry.textures, surface, 0.0, 9.81, pressure, wet);
-    const Mesh& mesh = geometry.mesh;
-    for (const Eigen::Vector3i& t : mesh.triangles) {
-      const Eigen::Vector3d& a = mesh.positions[std::size_t(t[0])];
-      areaVectors.push_back(0.5 * (mesh.positions[std::size_t(t[1])] - a).cross(mesh.positions[std::size_t(t[2])] - a));
-    }
+    areaVectors = triangleAreaVectors(geometry.mesh);
   }
 
   SoftBodyDragInput input(const std::vector<Eigen::Vector3d>& velocity, const std::vector<double>& mass, double dt) const {
-    SoftBodyDragInput in;
-    in.mesh = &geometry.mesh;
-    in.bake = &geometry.bake;
-    in.textures = &geometry.textures;
-    in.wetFraction = wet;
-    in.triangleAreaVectors = areaVectors;
-    in.vertexVelocity = velocity;
-    in.vertexMass = mass;
-    in.surface = &surface;
+    SoftBodyDragInput in = dragInput(geometry, wet, areaVectors, velocity, mass, surface, dt);
     in.viscosity = 1e-3;
-    in.dt = dt;
     in.coefficients.advancingPressure = 0.0;
     in.coefficients.retreatingPressure = 0.0;
     in.coefficients.linearPressureVelocity = 0.5;
@@ -138,23 +152,11 @@ TEST_CASE("soft body drag under waves: the surface interpolated above the vertic
   REQUIRE(count > 600);
   std::vector<float> pressure(geometry.textures.size()), wet(geometry.textures.size());
   texelPressures(geometry.textures, sea, time, 9.81, pressure, wet);
-  std::vector<Eigen::Vector3d> areaVectors;
-  for (const Eigen::Vector3i& t : geometry.mesh.triangles) {
-    const Eigen::Vector3d& a = geometry.mesh.positions[std::size_t(t[0])];
-    areaVectors.push_back(0.5 * (geometry.mesh.positions[std::size_t(t[1])] - a).cross(geometry.mesh.positions[std::size_t(t[2])] - a));
-  }
+  const std::vector<Eigen::Vector3d> areaVectors = triangleAreaVectors(geometry.mesh);
   const std::vector<Eigen::Vector3d> velocity(count, Eigen::Vector3d::Zero());
   const std::vector<double> mass(count, 50.0 / double(count));
-  SoftBodyDragInput input;
-  input.mesh = &geometry.mesh;
-  input.bake = &geometry.bake;
-  input.textures = &geometry.textures;
-  input.wetFraction = wet;
-  input.triangleAreaVectors = areaVectors;
-  input.vertexVelocity = velocity;
-  input.vertexMass = mass;
+  SoftBodyDragInput input = dragInput(geometry, wet, areaVectors, velocity, mass, sea, 1.0 / 60.0);
   input.time = time;
-  input.dt = 1.0 / 60.0;
   std::vector<Eigen::Vector3d> interpolatedChange(count), askedChange(count);
   SoftBodyDrag drag;
   input.surface = &sea;

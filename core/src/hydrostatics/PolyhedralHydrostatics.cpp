@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -340,20 +339,15 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
     const double highest = surface.heightRange(query.time).second - origin.y();
     std::vector<SurfaceVertex>& vertices = surfaceVertexScratch();
     vertices.resize(positions.size());
-    double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
+    detail::Footprint footprint;
     for (std::size_t v = 0; v < positions.size(); ++v) {
       const Eigen::Vector3d w = rotation * positions[v] + offset;
       vertices[v] = {w.x(), w.y(), w.z(), std::numeric_limits<double>::quiet_NaN()};
-      lowX = std::min(lowX, w.x());
-      highX = std::max(highX, w.x());
-      lowZ = std::min(lowZ, w.z());
-      highZ = std::max(highZ, w.z());
+      footprint.add(w.x() + origin.x(), w.z() + origin.z());
     }
     // The heights from jets over the footprint where that takes fewer surface samples than the
     // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
-    std::optional<detail::SurfaceJetGrid> grid;
-    detail::emplaceSurfaceJetGrid(grid, surface, query.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ,
-                                  kExactWaveHeightError, double(positions.size()));
+    detail::SurfaceHeights heights(surface, query.time, footprint, kExactWaveHeightError, double(positions.size()));
     for (const Eigen::Vector3i& t : mesh.triangles) {
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
       if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
@@ -363,8 +357,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
         if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
           return Error{"exact hydrostatics: vertex " + std::to_string(t[c]) + " of the mesh is not finite"};
         const double x = vertex.x + origin.x(), z = vertex.z + origin.z();
-        double height;
-        if (!grid || !grid->height(vertex.x, vertex.z, height)) height = surface.surfaceHeight(x, z, query.time);
+        const double height = heights.at(x, z);
         if (!std::isfinite(height))
           return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
                        " m) at (x, z) = (" + std::to_string(x) + ", " + std::to_string(z) + ") m, above vertex " +

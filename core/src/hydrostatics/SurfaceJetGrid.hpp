@@ -43,11 +43,9 @@ class SurfaceJetGrid {
   /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
   /// patches). False as interpolate().
   bool height(double x, double z, double& out) {
-    if (!std::isfinite(x) || !std::isfinite(z)) return false;  // a NaN point has no cell (int(NaN) is undefined)
-    const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
-    const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
-    const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
-    const double t = gx - i, w = gz - j;
+    int i, j;
+    double t, w;
+    if (!cell(x, z, i, j, t, w)) return false;
     const double bt[4] = {(2 * t - 3) * t * t + 1, ((t - 2) * t + 1) * t, (3 - 2 * t) * t * t, (t - 1) * t * t};
     const double bw[4] = {(2 * w - 3) * w * w + 1, ((w - 2) * w + 1) * w, (3 - 2 * w) * w * w, (w - 1) * w * w};
     const double s = spacing_;
@@ -67,11 +65,9 @@ class SurfaceJetGrid {
   /// grid). False when a sample the point needs has no jet (the surface folds, or is not finite),
   /// or the point is not finite.
   bool interpolate(double x, double z, SurfaceJet& out) {
-    if (!std::isfinite(x) || !std::isfinite(z)) return false;  // a NaN point has no cell (int(NaN) is undefined)
-    const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
-    const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
-    const int i = std::min(int(gx), sideX_ - 2), j = std::min(int(gz), sideZ_ - 2);
-    const double t = gx - i, w = gz - j;
+    int i, j;
+    double t, w;
+    if (!cell(x, z, i, j, t, w)) return false;
     const Node* corner[2][2];
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
@@ -115,6 +111,19 @@ class SurfaceJetGrid {
   }
 
  private:
+  // The cell (i, j) holding the local point (x, z), clamped into the grid, and the point's place
+  // (t, w) in it (0..1); false for a point that is not finite (int(NaN) is undefined).
+  bool cell(double x, double z, int& i, int& j, double& t, double& w) const {
+    if (!std::isfinite(x) || !std::isfinite(z)) return false;
+    const double gx = std::clamp((x - lowX_) / spacing_, 0.0, double(sideX_ - 1));
+    const double gz = std::clamp((z - lowZ_) / spacing_, 0.0, double(sideZ_ - 1));
+    i = std::min(int(gx), sideX_ - 2);
+    j = std::min(int(gz), sideZ_ - 2);
+    t = gx - i;
+    w = gz - j;
+    return true;
+  }
+
   struct Node {
     double f, fx, fz, fxz;  // height (m relative to nothing: world), slopes, mixed curvature
   };
@@ -174,24 +183,56 @@ inline double spacingForHeightError(double heightError, double fourth) {
   return fourth > 0.0 ? std::pow(384.0 * heightError / (2.0 * fourth), 0.25) : INFINITY;
 }
 
-/// Emplaces into `grid` jets over the local box [lowX, highX] x [lowZ, highZ] (m, relative to
-/// (originX, originZ), world) as far apart as a height error of `heightError` (m) allows, when the
-/// surface offers a smoothness bound and the box is finite and needs fewer than `maxSamples`
-/// samples; leaves it empty otherwise, or when kMaxSide samples a side cannot meet the bound: the
-/// caller then asks the surface per point. The exact path, rigid drag and soft drag use it under
-/// waves.
-inline void emplaceSurfaceJetGrid(std::optional<SurfaceJetGrid>& grid, const LiquidSurface& surface, double time,
-                                  double originX, double originZ, double lowX, double highX, double lowZ, double highZ,
-                                  double heightError, double maxSamples = INFINITY) {
-  const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
-  if (!smooth || !std::isfinite(smooth->fourth) || !(smooth->fourth >= 0.0)) return;
-  if (!std::isfinite(lowX + highX + lowZ + highZ + originX + originZ) || !(highX >= lowX) || !(highZ >= lowZ)) return;
-  const double spacing = std::min(spacingForHeightError(heightError, smooth->fourth), std::max(highX - lowX, highZ - lowZ));
-  if (!(spacing > 0.0)) return;
-  const double samples = (std::ceil((highX - lowX) / spacing) + 1.0) * (std::ceil((highZ - lowZ) / spacing) + 1.0);
-  if (!(samples < maxSamples)) return;
-  grid.emplace(surface, time, originX, originZ, lowX, highX, lowZ, highZ, spacing);
-  if (!(hermiteError(grid->spacing(), smooth->fourth).height <= heightError)) grid.reset();
-}
+/// The horizontal bounds (m, world) of a set of points, each with a reach around it.
+struct Footprint {
+  double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
+  /// Widens the bounds by the point (x, z) and `reach` (m) around it; a point that is not finite
+  /// is left out (it is asked of the surface itself, SurfaceHeights::at).
+  void add(double x, double z, double reach = 0.0) {
+    if (!std::isfinite(x) || !std::isfinite(z)) return;
+    lowX = std::min(lowX, x - reach);
+    highX = std::max(highX, x + reach);
+    lowZ = std::min(lowZ, z - reach);
+    highZ = std::max(highZ, z + reach);
+  }
+};
+
+/// The surface's height above many points of one body at one time (the exact path's vertices,
+/// drag's patches, a soft body's vertices or texels): interpolated from jets over their footprint
+/// (SurfaceJetGrid, within `heightError`, m) where the surface offers a smoothness bound and the
+/// grid takes fewer than `maxSamples` samples, else asked per point. Lives on the stack.
+class SurfaceHeights {
+ public:
+  SurfaceHeights(const LiquidSurface& surface, double time, const Footprint& footprint, double heightError,
+                 double maxSamples = INFINITY)
+      : surface_(surface), time_(time), originX_(footprint.lowX), originZ_(footprint.lowZ) {
+    const double width = footprint.highX - footprint.lowX, depth = footprint.highZ - footprint.lowZ;
+    if (!std::isfinite(width + depth + originX_ + originZ_) || !(width >= 0.0) || !(depth >= 0.0)) return;  // empty
+    const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
+    if (!smooth || !std::isfinite(smooth->fourth) || !(smooth->fourth >= 0.0)) return;
+    const double spacing = std::min(spacingForHeightError(heightError, smooth->fourth), std::max(width, depth));
+    if (!(spacing > 0.0)) return;
+    const double samples = (std::ceil(width / spacing) + 1.0) * (std::ceil(depth / spacing) + 1.0);
+    if (!(samples < maxSamples)) return;
+    grid_.emplace(surface, time, originX_, originZ_, 0.0, width, 0.0, depth, spacing);
+    // kMaxSide samples a side may not meet the bound over a wide footprint: then per point.
+    if (!(hermiteError(grid_->spacing(), smooth->fourth).height <= heightError)) grid_.reset();
+  }
+
+  /// Whether the heights are interpolated (false: each point asks the surface).
+  bool interpolated() const { return grid_.has_value(); }
+
+  /// Height (m, world) of the surface above the world point (x, z).
+  double at(double x, double z) {
+    double height;
+    if (grid_ && grid_->height(x - originX_, z - originZ_, height)) return height;
+    return surface_.surfaceHeight(x, z, time_);
+  }
+
+ private:
+  const LiquidSurface& surface_;
+  double time_, originX_, originZ_;
+  std::optional<SurfaceJetGrid> grid_;
+};
 
 }  // namespace hydrotex::detail

@@ -4,7 +4,6 @@
 
 #include "hydrotex/hydrostatics/TexelPressure.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -24,19 +23,10 @@ TexelPressureSums texelPressures(const SurfaceTextures& worldTextures, const Liq
   // Under waves the surface above each texel from a grid of jets over the texels' footprint, as
   // the exact path's vertices (kExactWaveHeightError), where that takes fewer samples than there
   // are texels: a Gerstner height is a Newton search (0.3 us), a soft ball at 64^2 has ~3,000 texels.
-  std::optional<detail::SurfaceJetGrid> grid;
-  if (free && !flat && !t.position.empty()) {
-    double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
-    for (const Eigen::Vector3f& p : t.position) {
-      lowX = std::min(lowX, double(p.x()));
-      highX = std::max(highX, double(p.x()));
-      lowZ = std::min(lowZ, double(p.z()));
-      highZ = std::max(highZ, double(p.z()));
-    }
-    const double originX = double(t.position.front().x()), originZ = double(t.position.front().z());
-    detail::emplaceSurfaceJetGrid(grid, surface, time, originX, originZ, lowX - originX, highX - originX,
-                                  lowZ - originZ, highZ - originZ, kExactWaveHeightError, double(t.position.size()));
-  }
+  detail::Footprint footprint;
+  if (free && !flat)
+    for (const Eigen::Vector3f& p : t.position) footprint.add(double(p.x()), double(p.z()));
+  detail::SurfaceHeights heights(surface, time, footprint, kExactWaveHeightError, double(t.position.size()));
   for (std::size_t i = 0; i < t.position.size(); ++i) {
     const Eigen::Vector3d x = t.position[i].cast<double>();
     const Eigen::Vector3d areaVector = t.areaVector[i].cast<double>();
@@ -48,10 +38,7 @@ TexelPressureSums texelPressures(const SurfaceTextures& worldTextures, const Liq
       sums.wettedArea += area;
       continue;
     }
-    double height;
-    if (flat) height = *flat;
-    else if (!grid || !grid->height(x.x() - double(t.position.front().x()), x.z() - double(t.position.front().z()), height))
-      height = surface.surfaceHeight(x.x(), x.z(), time);
+    const double height = flat ? *flat : heights.at(x.x(), x.z());
     // The texel as the parallelogram x + s eU + t eV (s, t in [-1/2, 1/2]) under a level surface
     // at the local height: the rigid texture path's rule for a texel cut by the waterline.
     const detail::WaterlineFractions wet =

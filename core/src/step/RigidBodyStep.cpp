@@ -67,26 +67,17 @@ Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
   return block.inverse();
 }
 
-/// Emplaces into `grid` the surface jets drag interpolates over the footprint of `set` posed at
-/// (rotation, translation), in the frame translated by `translation` horizontally; leaves it empty when
-/// the surface offers no smoothness bound or the footprint is too wide for kMaxSide samples to
-/// meet kDragSurfaceHeightError (then each patch asks the surface).
-void emplaceDragSurfaceGrid(const LiquidSurface& surface, double time, const DragPatchSet& set,
-                            const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation,
-                            std::optional<detail::SurfaceJetGrid>& grid) {
-  double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
+/// The horizontal footprint (m, world) of `set` posed at (rotation, translation): each patch lies
+/// within its cluster's radius of the cluster's centre, and the engine's rotation is orthogonal to
+/// about 1e-7, so a thousandth more covers it.
+detail::Footprint dragFootprint(const DragPatchSet& set, const Eigen::Matrix3d& rotation,
+                                const Eigen::Vector3d& translation) {
+  detail::Footprint footprint;
   for (const DragPatchSet::Cluster& cluster : set.clusters) {
-    // Each patch lies within the cluster's radius of its centre; the engine's rotation is
-    // orthogonal to about 1e-7, so a thousandth more covers it.
-    const Eigen::Vector3d c = rotation * cluster.center;
-    const double reach = 1.001 * cluster.radius;
-    lowX = std::min(lowX, c.x() - reach);
-    highX = std::max(highX, c.x() + reach);
-    lowZ = std::min(lowZ, c.z() - reach);
-    highZ = std::max(highZ, c.z() + reach);
+    const Eigen::Vector3d c = rotation * cluster.center + translation;
+    footprint.add(c.x(), c.z(), 1.001 * cluster.radius);
   }
-  detail::emplaceSurfaceJetGrid(grid, surface, time, translation.x(), translation.z(), lowX, highX, lowZ, highZ,
-                                detail::kDragSurfaceHeightError);
+  return footprint;
 }
 
 }  // namespace
@@ -229,8 +220,8 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   // patch it was 80 % of a floating box's step (bench_peers' box on three waves, 113 us of drag).
   const bool waves = freeSurface && !flatLevel;
   const double highestCrest = waves ? surface.heightRange(liquid.time).second - translation.y() : INFINITY;
-  std::optional<detail::SurfaceJetGrid> grid;
-  if (waves) emplaceDragSurfaceGrid(surface, liquid.time, set, rotation, translation, grid);
+  detail::SurfaceHeights heights(surface, liquid.time, waves ? dragFootprint(set, rotation, translation) : detail::Footprint{},
+                                 detail::kDragSurfaceHeightError);
   Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
   double wettedArea = 0.0;
   std::uint64_t visited = 0;
@@ -327,11 +318,7 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
         const Eigen::Vector3d p = rotation * Eigen::Vector3d(double(set.x[i]), double(set.y[i]), double(set.z[i])) + translation;
         double wetFraction = 1.0, level = INFINITY;  // the surface above the patch, when asked: its velocity needs it too
         if (freeSurface && !whollyWet) {
-          double interpolated;
-          level = flatLevel ? *flatLevel
-                  : grid && grid->height(p.x() - translation.x(), p.z() - translation.z(), interpolated)
-                      ? interpolated
-                      : surface.surfaceHeight(p.x(), p.z(), liquid.time);
+          level = flatLevel ? *flatLevel : heights.at(p.x(), p.z());
           wetFraction = wetFractionOf(level - p.y(), double(set.radius[i]));
           if (wetFraction <= 0.0) continue;
         }

@@ -23,7 +23,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
@@ -56,28 +55,12 @@ SoftBodyDragResult SoftBodyDrag::step(const SoftBodyDragInput& input, std::span<
   } else if (uniform) {
     surfaceHeights_.resize(vertexCount);
     const std::optional<double> flat = surface.flatHeight();
-    std::optional<detail::SurfaceJetGrid> grid;
-    if (!flat && vertexCount > 0) {
-      double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
-      for (const Eigen::Vector3d& x : mesh.positions) {
-        lowX = std::min(lowX, x.x());
-        highX = std::max(highX, x.x());
-        lowZ = std::min(lowZ, x.z());
-        highZ = std::max(highZ, x.z());
-      }
-      const Eigen::Vector3d& first = mesh.positions.front();
-      detail::emplaceSurfaceJetGrid(grid, surface, time, first.x(), first.z(), lowX - first.x(), highX - first.x(),
-                                    lowZ - first.z(), highZ - first.z(), detail::kDragSurfaceHeightError,
-                                    double(vertexCount));
-    }
-    for (std::size_t n = 0; n < vertexCount; ++n) {
-      const Eigen::Vector3d& x = mesh.positions[n];
-      double height;
-      if (flat) height = *flat;
-      else if (!grid || !grid->height(x.x() - mesh.positions.front().x(), x.z() - mesh.positions.front().z(), height))
-        height = surface.surfaceHeight(x.x(), x.z(), time);
-      surfaceHeights_[n] = height;
-    }
+    detail::Footprint footprint;
+    if (!flat)
+      for (const Eigen::Vector3d& x : mesh.positions) footprint.add(x.x(), x.z());
+    detail::SurfaceHeights heights(surface, time, footprint, detail::kDragSurfaceHeightError, double(vertexCount));
+    for (std::size_t n = 0; n < vertexCount; ++n)
+      surfaceHeights_[n] = flat ? *flat : heights.at(mesh.positions[n].x(), mesh.positions[n].z());
     surface.velocitiesBelow(mesh.positions, surfaceHeights_, time, relative_);
     for (std::size_t n = 0; n < vertexCount; ++n) relative_[n] += input.current;
   } else {
