@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 namespace hydrotex {
@@ -235,17 +236,9 @@ Eigen::Vector3d GerstnerWaves::velocity(const Eigen::Vector3d& worldPoint, doubl
 }
 
 Eigen::Vector3d GerstnerWaves::velocityBelow(const Eigen::Vector3d& worldPoint, double surface, double time) const {
-  if (worldPoint.y() > surface) return Eigen::Vector3d::Zero();
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  for (const Component& c : components_) {
-    const double theta = c.waveNumber * (c.dirX * worldPoint.x() + c.dirZ * worldPoint.z()) - c.omega * time + c.phase;
-    // Linear theory: orbital speeds decay as exp(k (y - surface)) below the surface.
-    const double decay = std::exp(c.waveNumber * (worldPoint.y() - surface));
-    const double horizontal = c.steepness * c.amplitude * c.omega * std::cos(theta) * decay;
-    v.x() += horizontal * c.dirX;
-    v.z() += horizontal * c.dirZ;
-    v.y() += c.amplitude * c.omega * std::sin(theta) * decay;
-  }
+  // One point of velocitiesBelow (its own phase, no turn): the law is written once, there.
+  Eigen::Vector3d v;
+  velocitiesBelow(std::span(&worldPoint, 1), std::span(&surface, 1), time, std::span(&v, 1));
   return v;
 }
 
@@ -255,6 +248,7 @@ void GerstnerWaves::velocitiesBelow(std::span<const Eigen::Vector3d> points, std
   for (std::size_t i = 0; i < points.size(); ++i) out[i].setZero();
   const Eigen::Vector3d& first = points[0];
   for (const Component& c : components_) {
+    // Linear theory: orbital speeds decay as exp(k (y - surface)) below the surface.
     // theta at the first point by sin and cos; at the others turned by k d . (p - p0) (velocityBelow's law).
     const double theta0 = c.waveNumber * (c.dirX * first.x() + c.dirZ * first.z()) - c.omega * time + c.phase;
     const double sine0 = std::sin(theta0), cosine0 = std::cos(theta0);
