@@ -19,6 +19,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mass/PrimitiveMassProperties.hpp"
 #include "hydrotex/step/RigidBodiesStep.hpp"
@@ -266,8 +267,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     upper = upper.cwiseMax(p);
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
-  const bool needsBake =
-      method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
+  // A body on the exact path takes its drag patches from its triangles (meshDragPatches: exact
+  // areas, a box's faces in tens of patches where a 256^2 bake gives hundreds), so that its drag
+  // needs no bake.
+  const bool meshPatches = exactPath && !deforming && settings.effects.has(Effect::Drag);
+  const bool needsBake = method == HydrostaticsMethod::Texture ||
+                         (settings.effects.has(Effect::Drag) && !meshPatches) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
   // The exact path's mesh prepared once (per-triangle constants), unless it moves every step.
   if (shared) {
@@ -295,7 +300,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->backendBody = *id;
       floating->backendTexels = geometry->textures.size();
     }
-    if (settings.effects.has(Effect::Drag)) {
+    if (settings.effects.has(Effect::Drag) && !meshPatches) {
       setDragPatches(*floating, mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine,
                                                            settings.dragPatchRadiusFraction * referenceLength));
     }
@@ -382,6 +387,9 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->deformation = std::move(state);
     }
   }
+  if (!shared && meshPatches)
+    setDragPatches(*floating, meshDragPatches(mesh, settings.dragPatchNormalCosine,
+                                              settings.dragPatchRadiusFraction * referenceLength));
 
   if (settings.effects.has(Effect::Wetting)) {
     // The liquid texture has its own bake (its resolution may differ from the physics bake's);
