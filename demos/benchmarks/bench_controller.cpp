@@ -195,6 +195,7 @@ SameStateCost sameStateCosts(int bodies, int resolution, int steps, int runs, Ef
   dragBody.prepared = &prepared;
   for (const DragPatch& patch : patches) dragBody.totalPatchArea += patch.area;
   dragBody.referenceLength = referenceLength;
+  dragBody.damping = DragDamping::Secant;  // as the controller takes texel patches
   const LiquidSurface& surface = *controller.liquid().surface;
   const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
   std::vector<HydrostaticsQuery> queries;

@@ -299,6 +299,7 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
       for (const DragPatch& patch : patches) dragBody.totalPatchArea += patch.area;
       dragBody.referenceLength = referenceLength;
       dragBody.rotationalDamping = 0.3;
+      dragBody.damping = DragDamping::Secant;  // as the controller takes texel patches
       const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
       const int dragRepeats = std::max(1, int(20000 / (patches.size() * motions.size())));
       pass.dragUs = 1e3 * bench::medianMs(5, [&] {
@@ -312,6 +313,7 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
       DragBody meshBody = dragBody;
       meshBody.patches = meshPatches;
       meshBody.prepared = &meshPrepared;
+      meshBody.damping = DragDamping::Linearized;  // as the controller takes mesh patches
       meshBody.totalPatchArea = 0.0;
       for (const DragPatch& patch : meshPatches) meshBody.totalPatchArea += patch.area;
       pass.meshDragUs = 1e3 * bench::medianMs(5, [&] {

@@ -171,8 +171,10 @@ void BuoyancyController::deform(FloatingBody& floating) {
   // The mass model sums over the moved triangles (followTriangles at registration): O(triangles).
   if (floating.massModel && !floating.massModel->setGeometry(*state.current)) ++statistics_.failedQueries;
   if (settings.effects.has(Effect::Drag)) {
-    setDragPatches(floating, mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
-                                                        settings.dragPatchRadiusFraction * floating.referenceLength));
+    setDragPatches(floating,
+                   mergeTexelsIntoDragPatches(state.bake, state.textures, settings.dragPatchNormalCosine,
+                                              settings.dragPatchRadiusFraction * floating.referenceLength),
+                   DragDamping::Secant);
   }
   Eigen::Vector3d lower = positions.front(), upper = lower;
   for (const Eigen::Vector3d& p : positions) {

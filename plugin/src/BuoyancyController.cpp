@@ -19,6 +19,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/mass/PrimitiveMassProperties.hpp"
 #include "hydrotex/step/RigidBodiesStep.hpp"
@@ -266,8 +267,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     upper = upper.cwiseMax(p);
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
-  const bool needsBake =
-      method == HydrostaticsMethod::Texture || settings.effects.has(Effect::Drag) || wantsMassModel;
+  // A body on the exact path takes its drag patches from its triangles (meshDragPatches: exact
+  // areas, a box's faces in tens of patches where a 256^2 bake gives hundreds), so that its drag
+  // needs no bake.
+  const bool meshPatches = exactPath && !deforming && settings.effects.has(Effect::Drag);
+  const bool needsBake = method == HydrostaticsMethod::Texture ||
+                         (settings.effects.has(Effect::Drag) && !meshPatches) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);
   // The exact path's mesh prepared once (per-triangle constants), unless it moves every step.
   if (shared) {
@@ -282,6 +287,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     floating->dragPatches = shared->dragPatches;
     floating->dragPatchSet = shared->dragPatchSet;
     floating->totalDragPatchArea = shared->totalDragPatchArea;
+    floating->dragDamping = shared->dragDamping;
   } else if (needsBake) {
     BodyGeometrySettings geometrySettings;
     geometrySettings.bake.width = settings.resolution;
@@ -295,9 +301,11 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->backendBody = *id;
       floating->backendTexels = geometry->textures.size();
     }
-    if (settings.effects.has(Effect::Drag)) {
-      setDragPatches(*floating, mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine,
-                                                           settings.dragPatchRadiusFraction * referenceLength));
+    if (settings.effects.has(Effect::Drag) && !meshPatches) {
+      setDragPatches(*floating,
+                     mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, settings.dragPatchNormalCosine,
+                                                settings.dragPatchRadiusFraction * referenceLength),
+                     DragDamping::Secant);
     }
     if (wantsMassModel) {
       // Mass model (docs/design.md "Mass model"): cones from the bounding box's centre.
@@ -382,6 +390,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
       floating->deformation = std::move(state);
     }
   }
+  if (!shared && meshPatches)
+    setDragPatches(*floating,
+                   meshDragPatches(mesh, settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction * referenceLength),
+                   DragDamping::Linearized);
 
   if (settings.effects.has(Effect::Wetting)) {
     // The liquid texture has its own bake (its resolution may differ from the physics bake's);
@@ -465,6 +477,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     model->dragPatches = registered.dragPatches;
     model->dragPatchSet = registered.dragPatchSet;
     model->totalDragPatchArea = registered.totalDragPatchArea;
+    model->dragDamping = registered.dragDamping;
     model->exactPrepared = registered.exactPrepared;
     registered.model = model;
     models_[key] = model;
@@ -734,6 +747,7 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) c
     drag.referenceLength = floating.referenceLength;
     drag.coefficients = settings.drag;
     drag.rotationalDamping = settings.rotationalDamping;
+    drag.damping = floating.dragDamping;
     input.drag = &drag;
   }
   input.liquid = DragLiquid{liquid_.surface.get(), toEigen(liquid_.current), liquid_.viscosity, time_};

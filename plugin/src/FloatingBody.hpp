@@ -68,6 +68,7 @@ struct SharedBodyModel {
   std::shared_ptr<const std::vector<DragPatch>> dragPatches; ///< when drag is listed
   std::shared_ptr<const DragPatchSet> dragPatchSet;          ///< prepareDragPatches(*dragPatches)
   double totalDragPatchArea = 0.0;                           ///< m^2
+  DragDamping dragDamping = DragDamping::Secant;             ///< how the drag's patches are linearized
   std::shared_ptr<const PreparedPolyhedron> exactPrepared;   ///< the exact path's prepared mesh, when it runs
 };
 
@@ -88,6 +89,8 @@ struct FloatingBody {
   /// mesh): its mass properties and flat-water hydrostatics in closed form.
   std::optional<double> sphereRadius;
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
+  /// Linearized for the exact path's few mesh patches, Secant for a bake's dense texel patches.
+  DragDamping dragDamping = DragDamping::Secant;
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
   std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset
   btTransform bodyToMesh = btTransform::getIdentity();                     ///< body (COM, principal) frame in the mesh frame
@@ -121,9 +124,11 @@ struct FloatingBody {
 };
 
 /// Gives `floating` its drag model from `patches` (mesh frame): the patches, their prepared layout
-/// for the drag sum (prepareDragPatches) and their total area, the derived state made in one place
-/// (registration and each deformation's re-merge).
-inline void setDragPatches(FloatingBody& floating, std::vector<DragPatch> patches) {
+/// for the drag sum (prepareDragPatches), their total area and how the implicit update linearizes
+/// them (`damping`), the derived state made in one place (registration and each deformation's
+/// re-merge).
+inline void setDragPatches(FloatingBody& floating, std::vector<DragPatch> patches, DragDamping damping) {
+  floating.dragDamping = damping;
   double area = 0.0;
   for (const DragPatch& patch : patches) area += patch.area;
   floating.totalDragPatchArea = area;

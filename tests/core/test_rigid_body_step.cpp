@@ -6,12 +6,14 @@
 
 #include <catch2/catch.hpp>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "TestSurfaces.hpp"
+#include "hydrostatics/TexelDragLaw.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -142,6 +144,8 @@ TEST_CASE("rigid body drag sums the law over wet patches and slows without rever
   body.totalPatchArea = 1.0;
   body.referenceLength = 1.0;
   body.coefficients.skinFrictionScale = 0.0;  // pressure only: the closed form below
+  body.damping = GENERATE(DragDamping::Linearized, DragDamping::Secant);
+  CAPTURE(int(body.damping));
   RigidBodyMotion motion = cube(400.0);
   motion.linearVelocity = {1.5, 0.0, 0.0};  // advancing on patch 0, retreating on patch 1
   const DragLiquid liquid{&water, Eigen::Vector3d::Zero(), 1e-3, 0.0};
@@ -155,7 +159,20 @@ TEST_CASE("rigid body drag sums the law over wet patches and slows without rever
   CHECK((loads.force - expected).norm() < 1e-9 * expected.norm());
   CHECK(loads.wettedArea == Approx(0.75).epsilon(1e-12));
   CHECK(loads.force.x() < 0.0);
-  CHECK(loads.damping > 0.0);
+  // The damping: symmetric, positive semidefinite, and positive along the motion.
+  CHECK(loads.damping.isApprox(loads.damping.transpose(), 1e-12));
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(loads.damping).eigenvalues().minCoeff() >=
+        -1e-9 * loads.damping.norm());
+  CHECK(loads.damping(0, 0) > 0.0);
+  if (body.damping == DragDamping::Secant) {
+    // The secant takes, along the motion u, the energy this step's drag would: dt u.C.u =
+    // -dt u.(F, T) (no current, no rotation here), and C is lambda M / dt.
+    Eigen::Matrix<double, 6, 1> u;
+    u << motion.linearVelocity, motion.angularVelocity;
+    CHECK(dt * u.dot(loads.damping * u) == Approx(-dt * motion.linearVelocity.dot(loads.force)).epsilon(1e-12));
+    CHECK(loads.damping(1, 1) == Approx(loads.damping(0, 0)).epsilon(1e-15));
+    CHECK(loads.damping(0, 1) == 0.0);
+  }
   // Implicit: even a step of 100 s only brings the body towards rest, never past it.
   for (double bigDt : {dt, 1.0, 100.0}) {
     CAPTURE(bigDt);
@@ -175,7 +192,7 @@ TEST_CASE("rigid body drag sums the law over wet patches and slows without rever
   const DragLoads dry = rigidBodyDrag(body, motion, liquid, dt);
   CHECK(dry.patchesVisited == 0);
   CHECK(dry.force.norm() == 0.0);
-  CHECK(dry.damping == 0.0);
+  CHECK(dry.damping.isZero(0.0));
 }
 
 TEST_CASE("a body is out of the liquid when its bounding sphere clears the surface", "[step]") {
@@ -421,4 +438,89 @@ TEST_CASE("under waves drag interpolates the surface above its patches within it
     CHECK(dry.force.isZero(0.0));
   }
   WARN("drag under waves, interpolated surface against per patch: worst force difference " << worst);
+}
+
+TEST_CASE("rigid body drag: its damping is the derivative of its force and torque", "[step][drag]") {
+  // The ring of patches of the test above under a flat surface with a current, rotational damping
+  // on: C = -d(F, T)/d(v, w) by central differences (the wet fractions do not
+  // depend on the velocities), step 1e-6 m/s, within 1e-5 of C's norm (the law is smooth away
+  // from s = 0 and t = 0, where no patch sits at these velocities).
+  const FlatSurface water(0.3, 1000.0);
+  std::vector<DragPatch> patches;
+  for (int i = 0; i < 97; ++i) {
+    const double a = 0.37 * i, b = 0.11 * i;
+    DragPatch patch;
+    patch.position = Eigen::Vector3f(float(std::cos(a)), float(std::sin(b) * 1.5), float(std::sin(a) * 0.6));
+    patch.areaVector = Eigen::Vector3f(float(0.02 * std::cos(a)), float(0.01 * std::sin(b)), float(0.02 * std::sin(a)));
+    patch.area = float(1.1 * patch.areaVector.norm());
+    patch.radius = 0.05f + 0.001f * float(i % 7);
+    patches.push_back(patch);
+  }
+  DragBody body;
+  body.patches = patches;
+  for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
+  body.referenceLength = 2.0;
+  body.rotationalDamping = 0.1;
+  body.coefficients.skinFrictionScale = 1.0;
+  RigidBodyMotion motion = cube(800.0);
+  motion.meshPose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  motion.meshPose.translation = {12.0, 0.1, -7.0};
+  motion.center = motion.meshPose.translation + motion.meshPose.rotation * Eigen::Vector3d(0.05, -0.1, 0.02);
+  motion.linearVelocity = {0.7, -0.3, 0.2};
+  motion.angularVelocity = {0.5, 1.2, -0.8};
+  // No viscosity: the skin friction coefficient is one number per body and step from its
+  // Reynolds number, which the damping holds fixed; the friction's own derivative is checked on
+  // the element law below.
+  const DragLiquid liquid{&water, Eigen::Vector3d(0.1, 0.0, -0.05), 0.0, 0.0};
+  const double dt = 1.0 / 60.0;
+  const DragLoads loads = rigidBodyDrag(body, motion, liquid, dt);
+  REQUIRE(loads.patchesVisited > 10);
+  const double h = 1e-6;
+  Eigen::Matrix<double, 6, 6> numeric;
+  for (int k = 0; k < 6; ++k) {
+    RigidBodyMotion plus = motion, minus = motion;
+    if (k < 3) {
+      plus.linearVelocity[k] += h;
+      minus.linearVelocity[k] -= h;
+    } else {
+      plus.angularVelocity[k - 3] += h;
+      minus.angularVelocity[k - 3] -= h;
+    }
+    const DragLoads up = rigidBodyDrag(body, plus, liquid, dt), down = rigidBodyDrag(body, minus, liquid, dt);
+    numeric.col(k).head<3>() = -(up.force - down.force) / (2.0 * h);
+    numeric.col(k).tail<3>() = -(up.torque - down.torque) / (2.0 * h);
+  }
+  CAPTURE(loads.damping, numeric);
+  CHECK((loads.damping - numeric).norm() <= 1e-5 * loads.damping.norm());
+}
+
+TEST_CASE("the drag law's rates are the derivative of its force, skin friction included", "[step][drag]") {
+  // One element at several relative velocities (advancing, retreating, nearly tangential), a
+  // fixed skin friction coefficient: -d force / d u by central differences (1e-7 m/s) against
+  // normalRate n n^T + isotropicRate I + tangentialRate t t^T, within 1e-6 of its norm.
+  const Eigen::Vector3d normal = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  DragCoefficients coefficients;
+  coefficients.linearPressureVelocity = 0.3;
+  for (const Eigen::Vector3d& u : {Eigen::Vector3d(0.7, -0.2, 0.4), Eigen::Vector3d(-1.1, 0.6, -0.9),
+                                   Eigen::Vector3d(0.8, 0.48, 0.0)}) {
+    CAPTURE(u.transpose());
+    detail::DragRates<double> rates;
+    detail::dragLawOnNormal(normal, 0.02, 0.025, u, 1000.0, 0.004, coefficients, &rates);
+    const Eigen::Vector3d t(rates.tangential[0], rates.tangential[1], rates.tangential[2]);
+    const Eigen::Matrix3d analytic = rates.normalRate * normal * normal.transpose() +
+                                     rates.isotropicRate * Eigen::Matrix3d::Identity() + rates.tangentialRate * t * t.transpose();
+    Eigen::Matrix3d numeric;
+    const double h = 1e-7;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d up = u, down = u;
+      up[k] += h;
+      down[k] -= h;
+      numeric.col(k) = -(detail::dragLawOnNormal(normal, 0.02, 0.025, up, 1000.0, 0.004, coefficients) -
+                         detail::dragLawOnNormal(normal, 0.02, 0.025, down, 1000.0, 0.004, coefficients)) /
+                       (2.0 * h);
+    }
+    CAPTURE(analytic, numeric);
+    CHECK((analytic - numeric).norm() <= 1e-6 * analytic.norm());
+    CHECK(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(analytic).eigenvalues().minCoeff() >= -1e-12 * analytic.norm());
+  }
 }

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: Zlib
 /// @file MeshDragPatches.cpp
 /// Drag patches from a mesh's triangles: large triangles split by edge midpoints (4^k similar
-/// pieces, each reaching half as far per level), pieces merged as texels are merged
-/// (mergeTexelsIntoDragPatches: the first open patch of a close normal and a near first centroid),
-/// the open patches found through a grid of cells one radius wide, so that the merge costs
-/// O(pieces), not O(pieces x patches).
+/// pieces, each reaching half as far per level), pieces merged in the cells of a grid that tiles
+/// their bounds (the first patch of the cell with a close normal): O(pieces).
 
 #include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 
@@ -27,7 +25,7 @@ struct Piece {
 };
 
 struct Accumulator {
-  Eigen::Vector3d normal, seed, areaVector = Eigen::Vector3d::Zero(), weightedPosition = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal, areaVector = Eigen::Vector3d::Zero(), weightedPosition = Eigen::Vector3d::Zero();
   double area = 0.0;
   std::vector<std::uint32_t> members;  // pieces
 };
@@ -53,8 +51,10 @@ std::vector<DragPatch> meshDragPatches(const Mesh& mesh, double normalCosine, do
   for (std::uint32_t t : mesh.openingTriangles)
     if (t < lid.size()) lid[t] = true;
 
-  // Pieces: every triangle split until each piece reaches at most the radius.
+  // Pieces: every triangle split until each piece reaches at most the radius; the bounds of the
+  // triangles they come from (the merge's grid tiles them).
   std::vector<Piece> pieces;
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = Eigen::Vector3d::Constant(-INFINITY);
   const auto count = static_cast<unsigned>(mesh.positions.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const Eigen::Vector3i& tri = mesh.triangles[t];
@@ -62,6 +62,8 @@ std::vector<DragPatch> meshDragPatches(const Mesh& mesh, double normalCosine, do
     const Eigen::Vector3d a = mesh.positions[std::size_t(tri[0])], b = mesh.positions[std::size_t(tri[1])],
                           c = mesh.positions[std::size_t(tri[2])];
     if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+    lower = lower.cwiseMin(a).cwiseMin(b).cwiseMin(c);
+    upper = upper.cwiseMax(a).cwiseMax(b).cwiseMax(c);
     const double reach = reachOf(a, b, c, (a + b + c) / 3.0);
     int levels = 0;
     while (bounded && levels < kMaxLevels && std::ldexp(reach, -levels) > maxPatchRadius) ++levels;
@@ -84,39 +86,41 @@ std::vector<DragPatch> meshDragPatches(const Mesh& mesh, double normalCosine, do
       }
   }
 
-  // Merge: the first open patch (in creation order) of a close normal and a near first centroid.
+  // Merge on a grid laid over the triangles' bounds, 2^m cells an axis with each cell at most twice
+  // the radius wide: a piece joins the first open patch of its cell whose normal lies within the
+  // cosine of its own. The cells tile the bounds exactly, so a box's faces (whose pieces pair
+  // into small squares of the same powers of two) get centred, mirror-symmetric patches, and a
+  // heaving box feels no torque from its patch layout (a first-come merge left it lopsided).
+  Eigen::Vector3d cellSize = Eigen::Vector3d::Constant(INFINITY);
+  for (int axis = 0; axis < 3 && bounded && !pieces.empty(); ++axis) {
+    const double extent = upper[axis] - lower[axis];
+    int cells = 1;
+    while (cells < (1 << 20) && extent / cells > 2.0 * maxPatchRadius) cells *= 2;
+    cellSize[axis] = extent / cells;
+  }
   std::vector<Accumulator> open;
-  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells;  // patches by their seed's cell
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells;  // patches by cell, in creation order
   auto cellOf = [&](const Eigen::Vector3d& p, int axis) {
-    return bounded ? std::int64_t(std::floor(p[axis] / maxPatchRadius)) : std::int64_t(0);
+    return bounded && cellSize[axis] > 0.0 ? std::int64_t(std::floor((p[axis] - lower[axis]) / cellSize[axis]))
+                                           : std::int64_t(0);
   };
   for (std::uint32_t index = 0; index < pieces.size(); ++index) {
     const Piece& piece = pieces[index];
     const Eigen::Vector3d normal = piece.areaVector / piece.area;
-    const std::int64_t ci = cellOf(piece.centroid, 0), cj = cellOf(piece.centroid, 1), ck = cellOf(piece.centroid, 2);
+    std::vector<std::uint32_t>& cell =
+        cells[cellKey(cellOf(piece.centroid, 0), cellOf(piece.centroid, 1), cellOf(piece.centroid, 2))];
     std::uint32_t chosen = std::uint32_t(-1);
-    const int span = bounded ? 1 : 0;
-    for (int di = -span; di <= span; ++di)
-      for (int dj = -span; dj <= span; ++dj)
-        for (int dk = -span; dk <= span; ++dk) {
-          const auto found = cells.find(cellKey(ci + di, cj + dj, ck + dk));
-          if (found == cells.end()) continue;
-          for (std::uint32_t patch : found->second) {
-            if (patch >= chosen) break;  // each cell's list is in creation order
-            const Accumulator& acc = open[patch];
-            if (acc.normal.dot(normal) >= normalCosine && (piece.centroid - acc.seed).norm() <= maxPatchRadius) {
-              chosen = patch;
-              break;
-            }
-          }
-        }
+    for (std::uint32_t patch : cell)
+      if (open[patch].normal.dot(normal) >= normalCosine) {
+        chosen = patch;
+        break;
+      }
     if (chosen == std::uint32_t(-1)) {
       chosen = std::uint32_t(open.size());
       Accumulator acc;
       acc.normal = normal;
-      acc.seed = piece.centroid;
       open.push_back(std::move(acc));
-      cells[cellKey(ci, cj, ck)].push_back(chosen);
+      cell.push_back(chosen);
     }
     Accumulator& acc = open[chosen];
     acc.areaVector += piece.areaVector;

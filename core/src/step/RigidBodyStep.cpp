@@ -22,8 +22,8 @@
 namespace hydrotex {
 namespace {
 
-using Vector4d = Eigen::Matrix<double, 4, 1>;
-using Matrix4d = Eigen::Matrix<double, 4, 4>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 /// The part of a stiffness taken implicitly, in the metric of the generalized mass M (so that
 /// heave in N/m and roll in N m/rad compare fairly): with M = L L^T, the modes of L^-1 K L^-T.
@@ -225,10 +225,14 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
   double wettedArea = 0.0;
   std::uint64_t visited = 0;
+  // The law's derivative, for the implicit update, when the body asks for it (DragDamping).
+  const bool linearized = body.damping == DragDamping::Linearized;
+  detail::DampingSums<double> damping;
 #ifdef HYDROTEX_DOUBLE_LANES
   // Lane sums of the patches taken in pairs (one SSE2 register each): force, torque, wetted area.
   using Pair = detail::DoubleLanes;
   Pair pairForce[3] = {0.0, 0.0, 0.0}, pairTorque[3] = {0.0, 0.0, 0.0}, pairWetted = 0.0;
+  detail::DampingSums<Pair> pairDamping;
   const double flatSurfaceLevel = flatLevel.value_or(0.0);
 #endif
   for (const DragPatchSet::Cluster& cluster : set.clusters) {
@@ -294,7 +298,10 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
         for (int j = 0; j < count; ++j) {
           const Posed& at = posed[j];
           Pair f[3];
-          detail::dragLawLanes(at.n, at.projected, at.frictionArea, at.u, density, friction, body.coefficients, f);
+          detail::DragRates<Pair> rates;
+          detail::dragLawLanes(at.n, at.projected, at.frictionArea, at.u, density, friction, body.coefficients, f,
+                               linearized ? &rates : nullptr);
+          if (linearized) detail::addDragDamping(pairDamping, at.n, at.r, rates, at.wet);
           for (int k = 0; k < 3; ++k) f[k] = at.wet * f[k];
           for (int k = 0; k < 3; ++k) pairForce[k] += f[k];
           pairTorque[0] += at.r[1] * f[2] - at.r[2] * f[1];
@@ -345,10 +352,16 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
         const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocities[k];
         const Eigen::Vector3d areaVector =
             rotation * Eigen::Vector3d(double(set.ax[patch]), double(set.ay[patch]), double(set.az[patch]));
+        detail::DragRates<double> rates;
+        Eigen::Vector3d normal;
         const Eigen::Vector3d patchForce =
             wetFractions[k] * detail::texelDragLaw(areaVector, double(set.area[patch]), relative,
                                                    freeSurface ? density : surface.densityAt(points[k]), friction,
-                                                   body.coefficients);
+                                                   body.coefficients, linearized ? &rates : nullptr, &normal);
+        if (linearized) {
+          const double n[3] = {normal.x(), normal.y(), normal.z()}, rp[3] = {r.x(), r.y(), r.z()};
+          detail::addDragDamping(damping, n, rp, rates, wetFractions[k]);
+        }
         force += patchForce;
         torque += r.cross(patchForce);
         wettedArea += wetFractions[k] * double(set.area[patch]);
@@ -361,23 +374,38 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
     torque[k] += pairTorque[k].sum();
   }
   wettedArea += pairWetted.sum();
+  for (int k = 0; k < 21; ++k) damping.outer[k] += pairDamping.outer[k].sum();
+  damping.isotropic += pairDamping.isotropic.sum();
+  for (int k = 0; k < 3; ++k) damping.moment[k] += pairDamping.moment[k].sum();
+  for (int k = 0; k < 6; ++k) damping.second[k] += pairDamping.second[k].sum();
 #endif
   out.force = force;
   out.torque = torque;
   out.patchesVisited = visited;
   out.wettedArea = wettedArea;
+  if (linearized) out.damping = detail::dampingMatrix(damping);
   if (body.totalPatchArea > 0.0 && body.rotationalDamping > 0.0) {
     const double wetted = out.wettedArea / body.totalPatchArea;
     out.torque -= body.rotationalDamping * wetted * (motion.inertiaWorld * w);
+    if (linearized) out.damping.bottomRightCorner<3, 3>() += body.rotationalDamping * wetted * motion.inertiaWorld;
   }
-  // Drag is taken implicitly too (linearized backward Euler, F_d(u') = F_d(u) - D (u' - u)), with
-  // D = lambda M / dt the secant damping along the relative motion: lambda = -(u.J)/(u.M.u),
-  // J = dt (F_d, T_d). It can then slow a body but never reverse it, at any time step, and at a
+  // The implicit update takes the drag linearized about this step's velocities (backward Euler,
+  // F_d(u') = F_d(u) - C (u' - u)). Linearized: C is the full derivative, so every direction of
+  // the motion the drag acts on is damped implicitly, including forces across the body's motion
+  // that a lopsided patch layout makes (a spinning plate, a rolling needle). Secant: C = lambda M
+  // / dt along the relative motion, lambda = -(u.J)/(u.M.u), J = dt (F_d, T_d). Both are positive
+  // semidefinite, so the drag can slow a body but never reverse it, at any time step, and at a
   // steady state (terminal velocity) it changes nothing.
-  const Eigen::Vector3d relativeLinear = v - out.liquidVelocityAtCenter;
-  const double removed = -dt * (relativeLinear.dot(out.force) + w.dot(out.torque));
-  const double kinetic = motion.mass * relativeLinear.squaredNorm() + w.dot(motion.inertiaWorld * w);
-  if (removed > 0.0 && kinetic > 0.0) out.damping = removed / kinetic;
+  if (!linearized) {
+    const Eigen::Vector3d relativeLinear = v - out.liquidVelocityAtCenter;
+    const double removed = -dt * (relativeLinear.dot(out.force) + w.dot(out.torque));
+    const double kinetic = motion.mass * relativeLinear.squaredNorm() + w.dot(motion.inertiaWorld * w);
+    if (removed > 0.0 && kinetic > 0.0) {
+      const double rate = removed / kinetic / dt;
+      out.damping.topLeftCorner<3, 3>().diagonal().setConstant(rate * motion.mass);
+      out.damping.bottomRightCorner<3, 3>() = rate * motion.inertiaWorld;
+    }
+  }
   return out;
 }
 
@@ -395,21 +423,27 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   // has I_xx ~ its transverse inertia unless it points exactly along x, yet rolls about its own
   // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
   // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
-  // M is m' I on v and the inertia on w, and K acts on (v_y, w_x, w_z): v_x and v_z are decoupled
-  // (one division each), and the rest is the 4x4 system in u4 = (v_y, w_x, w_y, w_z).
+  // M is m' I on v and the inertia on w, K acts on (v_y, w_x, w_z) and the drag's damping C on
+  // all of u = (v, w): one 6 x 6 symmetric positive definite system (LDLT). Without drag v_x and
+  // v_z decouple, as before (one division each in the solve).
   const double mass = motion.mass;
   const Eigen::Matrix3d& inertiaWorld = motion.inertiaWorld;
   const Eigen::Vector3d& v = motion.linearVelocity;
   const Eigen::Vector3d& w = motion.angularVelocity;
   const double effectiveMass = mass + input.addedMass;
-  const double damping = input.dragDamping > 0.0 ? input.dragDamping : 0.0;
-  const double translational = effectiveMass + damping * mass;
-  const Eigen::Vector3d linearRhs = effectiveMass * v + dt * (mass * input.gravity + input.force) + damping * mass * v;
-  const Eigen::Vector3d angularRhs = (1.0 + damping) * (inertiaWorld * w) + dt * input.torque;
-  Matrix4d system = Matrix4d::Zero();
-  system(0, 0) = translational;
-  system.bottomRightCorner<3, 3>() = (1.0 + damping) * inertiaWorld;
-  Vector4d rhs(linearRhs.y(), angularRhs.x(), angularRhs.y(), angularRhs.z());
+  Matrix6d system = Matrix6d::Zero();
+  system.topLeftCorner<3, 3>().diagonal().setConstant(effectiveMass);
+  system.bottomRightCorner<3, 3>() = inertiaWorld;
+  Vector6d rhs;
+  rhs.head<3>() = effectiveMass * v + dt * (mass * input.gravity + input.force);
+  rhs.tail<3>() = inertiaWorld * w + dt * input.torque;
+  if (input.dragDamping.allFinite() && !input.dragDamping.isZero(0.0)) {
+    Vector6d u;
+    u << v, w;
+    const Matrix6d c = 0.5 * dt * (input.dragDamping + input.dragDamping.transpose());
+    system += c;
+    rhs += c * u;
+  }
   const bool stiff = !input.stiffness.isZero(0.0) && input.stiffness.allFinite();
   if (stiff) {
     double rate = 0.0;
@@ -418,13 +452,12 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
     generalizedMass.bottomRightCorner<2, 2>() = rollPitchInertia(inertiaWorld);
     const Eigen::Matrix3d implicitPart = implicitStiffness(input.stiffness, generalizedMass, dt, rate);
     const double theta = std::min(1.0, rate * dt * dt);
-    static constexpr int kIndex[3] = {0, 1, 3};  // heave -> v_y, roll -> w_x, pitch -> w_z (in u4)
+    static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z (in u)
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * implicitPart(i, j);
   }
-  const Vector4d coupled = system.ldlt().solve(rhs);
-  const RigidBodyVelocities next{Eigen::Vector3d(linearRhs.x() / translational, coupled[0], linearRhs.z() / translational),
-                                 coupled.tail<3>()};
+  const Vector6d solved = system.ldlt().solve(rhs);
+  const RigidBodyVelocities next{solved.head<3>(), solved.tail<3>()};
   if (!next.linear.allFinite() || !next.angular.allFinite())
     return Error{"implicit velocity update: the step's system gave non-finite velocities"};
   return next;

@@ -18,7 +18,7 @@
 /// node velocities, only its wet fraction counts, and its force goes to the nodes through its
 /// pieces as the pressure does. The nodes' velocities split into the body's rigid motion and a
 /// deformation with no momentum; the drag's total force and torque act on the first, the rest of
-/// the node forces on the second, each taken semi-implicitly (the rigid bodies' secant damping)
+/// the node forces on the second, each taken semi-implicitly (a secant damping along the motion)
 /// and limited so that it can slow that motion relative to the liquid, never speed it up: drag
 /// never adds kinetic energy, at any time step, and a body moving as a whole is not deformed by
 /// its own drag. Drag sees the node velocities of the end of the last step (without the g dt
