@@ -84,8 +84,10 @@ HydrostaticsResult finishHydrostatics(const WettedSums& sums, const Eigen::Vecto
     return result;
   }
 
-  // Cap integrals are minus the wetted surface's (closed surface: Int f(x, z) n_y dA = 0).
-  const double area = -sums.sumAy;
+  // Cap integrals are minus the wetted surface's (closed surface: Int f(x, z) n_y dA = 0). A
+  // wholly submerged body has no cap: its sum is then a residue of rounding (~1e-17 m^2 of either
+  // sign), whose centroid would be noise, so a cap under 1e-12 of the wetted area is none.
+  const double area = -sums.sumAy > 1e-12 * sums.wettedArea ? -sums.sumAy : 0.0;
   const double firstX = -sums.sumXAy, firstZ = -sums.sumZAy;
   result.waterplaneArea = area;
   result.waterplaneCentroid =

@@ -84,6 +84,17 @@ struct UpwardMoments {
     for (int pair = 0; pair < 6; ++pair) sumPPAUp[pair] += k.secondMoments[pair] * aUp;
   }
 
+  /// Adds a wholly wet cluster of triangles: its summed constants contracted with `up`.
+  inline void add(const double up[3], const detail::TriangleCluster& c) {
+    sumArea += c.area;
+    sumAUp += up[0] * c.areaVector[0] + up[1] * c.areaVector[1] + up[2] * c.areaVector[2];
+    for (int i = 0; i < 3; ++i)
+      sumPAUp[i] += up[0] * c.firstMoments[i][0] + up[1] * c.firstMoments[i][1] + up[2] * c.firstMoments[i][2];
+    for (int pair = 0; pair < 6; ++pair)
+      sumPPAUp[pair] +=
+          up[0] * c.secondMoments[pair][0] + up[1] * c.secondMoments[pair][1] + up[2] * c.secondMoments[pair][2];
+  }
+
   /// Adds the part of the triangle with corners p[0..2] (counter-clockwise from outside) where the
   /// depth, linear over it and given at the corners, is positive: the triangle or quadrilateral
   /// under the water line. `under` corners of the three have depth > 0 (1 or 2: it is cut).
@@ -221,13 +232,13 @@ bool indicesInRange(const Mesh& mesh) {
 
 }  // namespace
 
-Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh,
-                                                                std::span<const TriangleConstants> constants,
+Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh, const PreparedTriangles* prepared,
                                                                 double level, double density,
                                                                 const HydrostaticsQuery& query) {
   // The water plane in the body frame: depth(p) = (h - t_y) - r1 . p, once per vertex; a triangle
   // with no corner under it costs three loads and compares, a wholly wet one its constants' 13
-  // multiply-adds, and only the cut ones are clipped (as Jolt's and Kerner's buoyancy do).
+  // multiply-adds, and only the cut ones are clipped (as Jolt's and Kerner's buoyancy do). A
+  // prepared mesh's clusters wholly under or over the plane cost O(1) (TriangleCluster).
   const Eigen::Matrix3d& rotation = query.pose.rotation;
   const Eigen::Vector3d& translation = query.pose.translation;
   const double up[3] = {rotation(1, 0), rotation(1, 1), rotation(1, 2)};
@@ -239,21 +250,42 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
     const Eigen::Vector3d& p = positions[v];
     depths[v] = bodyLevel - (up[0] * p.x() + up[1] * p.y() + up[2] * p.z());
   }
-  const bool prepared = constants.size() == mesh.triangles.size();
   UpwardMoments m;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Eigen::Vector3i& tri = mesh.triangles[t];
-    const double depth[3] = {depths[std::size_t(tri[0])], depths[std::size_t(tri[1])], depths[std::size_t(tri[2])]};
-    const int under = int(depth[0] > 0.0) + int(depth[1] > 0.0) + int(depth[2] > 0.0);
-    if (under == 0) continue;
-    const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
-                          positions[std::size_t(tri[2])].data()};
-    if (under != 3)
-      m.addCut(up, p, depth, under);
-    else if (prepared)
-      m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
-    else
-      m.add(up, triangleConstants(p[0], p[1], p[2]));
+  // Triangles [begin, end) of `triangles` one by one (`constants` aligned with them, or null).
+  const auto addTriangles = [&](const Eigen::Vector3i* triangles, const TriangleConstants* constants, std::size_t begin,
+                                std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      const Eigen::Vector3i& tri = triangles[t];
+      const double depth[3] = {depths[std::size_t(tri[0])], depths[std::size_t(tri[1])], depths[std::size_t(tri[2])]};
+      const int under = int(depth[0] > 0.0) + int(depth[1] > 0.0) + int(depth[2] > 0.0);
+      if (under == 0) continue;
+      const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
+                            positions[std::size_t(tri[2])].data()};
+      if (under != 3)
+        m.addCut(up, p, depth, under);
+      else if (constants)
+        m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
+      else
+        m.add(up, triangleConstants(p[0], p[1], p[2]));
+    }
+  };
+  if (prepared) {
+    // A cluster's corners lie within its radius of its centre, so their depths lie within
+    // |r1| radius of the centre's (|r1| ~ 1: the engine's rotation is orthogonal to ~1e-7; the
+    // margin keeps the classification conservative through that and the depths' rounding): all
+    // under (> 0) or none (<= 0) exactly as the triangles one by one would find.
+    const double reach = std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]) * (1.0 + 1e-12);
+    for (const TriangleCluster& cluster : prepared->clusters) {
+      const double depth = bodyLevel - (up[0] * cluster.center[0] + up[1] * cluster.center[1] + up[2] * cluster.center[2]);
+      const double spread = reach * cluster.radius + 1e-12 * std::abs(bodyLevel);
+      if (depth < -spread) continue;
+      if (depth > spread)
+        m.add(up, cluster);
+      else
+        addTriangles(prepared->triangles.data(), prepared->constants.data(), cluster.begin, cluster.end);
+    }
+  } else {
+    addTriangles(mesh.triangles.data(), nullptr, 0, mesh.triangles.size());
   }
 
   // To the world sums about o = (t_x, h, t_z), with x' = R p + b, b = t - o: Sum x' a_up =
@@ -309,7 +341,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
   const std::optional<double> flat = surface.flatHeight();
   if (mesh.triangles.empty()) return Error{"exact hydrostatics: the mesh has no triangles"};
   if (!indicesInRange(mesh)) return Error{"exact hydrostatics: a triangle index is out of range"};
-  if (flat) return detail::flatPolyhedralHydrostatics(mesh, {}, *flat, surface.density(), query);
+  if (flat) return detail::flatPolyhedralHydrostatics(mesh, nullptr, *flat, surface.density(), query);
 
   const Eigen::Matrix3d& rotation = query.pose.rotation;
   const Eigen::Vector3d& translation = query.pose.translation;

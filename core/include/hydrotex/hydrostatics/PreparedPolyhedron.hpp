@@ -4,10 +4,13 @@
 /// A closed mesh prepared once for the exact path's calls every step (issue 19: a simple body
 /// costs no more than in a game engine's buoyancy): the checks that polyhedralHydrostatics makes
 /// per call (closed, finite, indices in range) are made once, and each triangle's pose-independent
-/// constants (area vector, area, centroid, second moments: 104 bytes) are kept, so that under a
-/// flat surface a step costs per vertex one depth and per triangle a classification, plus 13
-/// multiply-adds when it is wholly wet; only the triangles the water line cuts are clipped.
-/// Results are bit for bit those of polyhedralHydrostaticsUnchecked on the same mesh.
+/// constants (area vector, area, centroid, second moments: 104 bytes) are kept, and the triangles
+/// are grouped into clusters of nearby ones with their constants summed, so that under a flat
+/// surface a step costs per vertex one depth and per cluster a classification: a cluster wholly
+/// under the water adds its sums (O(1)), one wholly above is skipped, and only the clusters the
+/// water line crosses go triangle by triangle, where the cut triangles are clipped. Results agree
+/// with polyhedralHydrostaticsUnchecked on the same mesh to rounding (the same terms summed in
+/// another order); under waves, height grids and media they are its bits.
 
 #include <cstddef>
 #include <memory>
@@ -20,11 +23,11 @@
 namespace hydrotex {
 
 namespace detail {
-struct TriangleConstants;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
+struct PreparedTriangles;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
 }
 
-/// A closed mesh and its per-triangle constants (read-only once made; share it between bodies of
-/// one mesh and between threads).
+/// A closed mesh, its per-triangle constants and their clusters (read-only once made; share it
+/// between bodies of one mesh and between threads).
 class PreparedPolyhedron {
  public:
   /// Prepares `mesh` (body frame, m). Errors: those of polyhedralHydrostatics' checks (an empty or
@@ -32,14 +35,17 @@ class PreparedPolyhedron {
   static Expected<PreparedPolyhedron> prepare(std::shared_ptr<const Mesh> mesh);
   /// The mesh it was made from.
   const Mesh& mesh() const { return *mesh_; }
-  /// Heap held by the constants (bytes; the mesh is shared, not counted).
+  /// Clusters of nearby triangles the flat-surface sums classify (at most 16 triangles each).
+  std::size_t clusterCount() const;
+  /// Heap held by the constants, the clusters and the triangles in their order (bytes; the mesh
+  /// is shared, not counted).
   std::size_t memoryBytes() const;
 
  private:
   friend Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
   std::shared_ptr<const Mesh> mesh_;
-  std::shared_ptr<const detail::TriangleConstants[]> constants_;  // one per triangle, in the mesh's order
+  std::shared_ptr<const detail::PreparedTriangles> triangles_;  // every triangle once, in clusters
 };
 
 /// Exact hydrostatics of a prepared mesh (as polyhedralHydrostatics, PolyhedralHydrostatics.hpp,
