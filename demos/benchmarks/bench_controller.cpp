@@ -30,6 +30,7 @@
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
@@ -188,14 +189,15 @@ SameStateCost sameStateCosts(int bodies, int resolution, int steps, int runs, Ef
     upper = upper.cwiseMax(vertex);
   }
   const double referenceLength = (upper - lower).maxCoeff();
-  const std::vector<DragPatch> patches = mergeTexelsIntoDragPatches(geometry->bake, geometry->textures, 0.9, 0.2 * referenceLength);
+  // A rigid body's drag patches come from its triangles, with the law's whole derivative.
+  const std::vector<DragPatch> patches = meshDragPatches(mesh, 0.9, 0.2 * referenceLength);
   const DragPatchSet prepared = prepareDragPatches(patches);
   DragBody dragBody;
   dragBody.patches = patches;
   dragBody.prepared = &prepared;
   for (const DragPatch& patch : patches) dragBody.totalPatchArea += patch.area;
   dragBody.referenceLength = referenceLength;
-  dragBody.damping = DragDamping::Secant;  // as the controller takes texel patches
+  dragBody.damping = DragDamping::Linearized;
   const LiquidSurface& surface = *controller.liquid().surface;
   const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
   std::vector<HydrostaticsQuery> queries;

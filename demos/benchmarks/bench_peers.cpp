@@ -12,13 +12,13 @@
 //
 // Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
 // states, timed alone: "exact us" polyhedralHydrostaticsUnchecked on the mesh, "prep us"
-// polyhedralHydrostatics on a PreparedPolyhedron (what the controller calls, the same bits) and
-// "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat water), "update us"
-// implicitVelocityUpdate with those loads and stiffness (every body's step solves it), "drag us"
-// rigidBodyDrag with the drag
-// patches the controller makes (from the 256^2 bake), "mdrag us" the same on meshDragPatches
-// (what it could make for an exact-path body, no bake); the rest of "ours" is the controller's own (Bullet reads and
-// writes, the implicit update).
+// polyhedralHydrostatics on a PreparedPolyhedron (what the controller calls; to rounding the
+// same) and "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat
+// water), "update us" implicitVelocityUpdate with those loads and stiffness (every body's step
+// solves it), "mdrag us" rigidBodyDrag on meshDragPatches with the law's whole derivative (what
+// the controller makes for a rigid body, on either path, no bake) and "drag us" the same law on
+// texel patches from a 256^2 bake with the secant damping (what a deforming body takes); the rest
+// of "ours" is the controller's own (Bullet reads and writes).
 //
 // Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
 // (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
@@ -283,8 +283,8 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                         }) / (sphereRepeats * double(queries.size()));
   }
   if (c.drag) {
-    // The drag patches as the controller makes them (FloatingBodySettings' defaults: cosine 0.9,
-    // radius 0.2 of the largest extent, from the 256^2 bake).
+    // Texel drag patches as the controller makes them for a deforming body (FloatingBodySettings'
+    // defaults: cosine 0.9, radius 0.2 of the largest extent, from the 256^2 bake).
     BodyGeometrySettings geometrySettings;
     geometrySettings.bake.width = geometrySettings.bake.height = 256;
     Expected<BodyGeometry> geometry = prepareBodyGeometry(*mesh, geometrySettings);
@@ -299,7 +299,7 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
       for (const DragPatch& patch : patches) dragBody.totalPatchArea += patch.area;
       dragBody.referenceLength = referenceLength;
       dragBody.rotationalDamping = 0.3;
-      dragBody.damping = DragDamping::Secant;  // as the controller takes texel patches
+      dragBody.damping = DragDamping::Secant;  // as the controller takes a deforming body's texel patches
       const DragLiquid liquid{&surface, eigen(controller.liquid().current), controller.liquid().viscosity, controller.time()};
       const int dragRepeats = std::max(1, int(20000 / (patches.size() * motions.size())));
       pass.dragUs = 1e3 * bench::medianMs(5, [&] {
@@ -307,7 +307,8 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                         for (const RigidBodyMotion& motion : motions)
                           sink += rigidBodyDrag(dragBody, motion, liquid, scene.dt).force.y();
                     }) / (dragRepeats * double(motions.size()));
-      // The same law on patches made from the mesh's triangles (meshDragPatches, same settings).
+      // The same law on patches made from the mesh's triangles (meshDragPatches, same settings):
+      // the controller's for every rigid body.
       const std::vector<DragPatch> meshPatches = meshDragPatches(*mesh, 0.9, 0.2 * referenceLength);
       const DragPatchSet meshPrepared = prepareDragPatches(meshPatches);
       DragBody meshBody = dragBody;

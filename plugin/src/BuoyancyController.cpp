@@ -267,10 +267,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     upper = upper.cwiseMax(p);
   }
   const double referenceLength = std::max((upper - lower).maxCoeff(), 1e-6);
-  // A body on the exact path takes its drag patches from its triangles (meshDragPatches: exact
-  // areas, a box's faces in tens of patches where a 256^2 bake gives hundreds), so that its drag
-  // needs no bake.
-  const bool meshPatches = exactPath && !deforming && settings.effects.has(Effect::Drag);
+  // A rigid body takes its drag patches from its triangles (meshDragPatches: exact areas, a box's
+  // faces in tens of patches where a 256^2 bake gives hundreds), on either path, so that its drag
+  // needs no bake and costs what its mesh needs; a deforming body re-merges its moved texels.
+  const bool meshPatches = !deforming && settings.effects.has(Effect::Drag);
   const bool needsBake = method == HydrostaticsMethod::Texture ||
                          (settings.effects.has(Effect::Drag) && !meshPatches) || wantsMassModel;
   floating->boundsCenter = 0.5 * (lower + upper);

@@ -89,7 +89,7 @@ struct FloatingBody {
   /// mesh): its mass properties and flat-water hydrostatics in closed form.
   std::optional<double> sphereRadius;
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
-  /// Linearized for the exact path's few mesh patches, Secant for a bake's dense texel patches.
+  /// Linearized for a rigid body's mesh patches, Secant for a deforming body's dense texel patches.
   DragDamping dragDamping = DragDamping::Secant;
   btCollisionShape* originalShape = nullptr;    ///< the user's shape (mesh frame), not owned
   std::unique_ptr<btCompoundShape> compound;    ///< wraps originalShape at the centre-of-mass offset

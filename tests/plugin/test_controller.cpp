@@ -14,6 +14,7 @@
 #include "PluginTestWorld.hpp"
 #include "TestPaths.hpp"
 #include "hydrotex/bullet/Scene.hpp"
+#include "hydrotex/hydrostatics/MeshDragPatches.hpp"
 
 // Allocation counter for the "no allocation" check: every operator new in this executable.
 // GCC 12 flags free() on memory from the replaced operator new as mismatched; here both are ours.
@@ -72,6 +73,23 @@ TEST_CASE("an effect a body does not list costs nothing", "[controller][effects]
   CHECK(stats.backendBatches == steps);           // both texture bodies in one batch, read back once a step
   CHECK(stats.massBatches == 0);                  // nobody listed variable_mass
   CHECK(stats.massBatchBodies == 0);
+}
+
+TEST_CASE("a rigid body's drag runs on its mesh's patches on either path", "[controller][drag]") {
+  // A box held deep under the surface (every patch wet) on the texture and on the exact path: one
+  // step visits exactly the patches meshDragPatches makes from its triangles with the settings'
+  // defaults (cosine 0.9, radius 0.2 of the 1 m largest extent), not the 64^2 bake's texel patches.
+  const Mesh box = primitives::box({1, 0.5, 1});
+  const std::size_t meshPatches = meshDragPatches(box, 0.9, 0.2 * 1.0).size();
+  REQUIRE(meshPatches > 0);
+  for (HydrostaticsMethod method : {HydrostaticsMethod::Texture, HydrostaticsMethod::Polyhedral}) {
+    CAPTURE(int(method));
+    TestWorld world;
+    REQUIRE(world.add(box, solid(500, {Effect::Buoyancy, Effect::Drag}, method, 64), btVector3(0, -5, 0)) != nullptr);
+    world.step(1.0 / 60.0);
+    CHECK(world.controller().statistics().dragPasses == 1);
+    CHECK(world.controller().statistics().dragPatchesVisited == meshPatches);
+  }
 }
 
 TEST_CASE("density maps replaced every step: one mass batch a step, no allocation", "[controller][mass]") {

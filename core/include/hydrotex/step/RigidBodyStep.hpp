@@ -77,8 +77,8 @@ enum class DragDamping {
   Linearized,
   /// The secant damping along the relative motion, C = (lambda / dt) diag(m I, I_world) with lambda
   /// removing the energy this step's drag would: O(1) a body. For dense layouts (texel patches of
-  /// a bake), whose drag across the motion nearly cancels and where the whole derivative would
-  /// cost 2.5 us a body on a 256^2 box's 325 patches.
+  /// a bake, as a deforming body re-merges), whose drag across the motion nearly cancels and where
+  /// the whole derivative would cost 2.5 us a body on a 256^2 box's 325 patches.
   Secant,
 };
 

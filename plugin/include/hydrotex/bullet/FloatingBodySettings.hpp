@@ -216,13 +216,14 @@ struct FloatingBodySettings {
   WettingBodySettings wetting;
   /// With Effect::Flooding: permeability map, Darcy constants and the liquid graph.
   FloodingBodySettings flooding;
-  /// Texel (texture path) or triangle-piece (exact path) normals within this cosine are merged
-  /// into one drag patch (0..1).
+  /// Triangle-piece (a rigid body) or texel (a deforming body) normals within this cosine are
+  /// merged into one drag patch (0..1).
   double dragPatchNormalCosine = 0.9;
-  /// Drag patches reach at most this fraction of the body's largest extent: from their first texel
-  /// on the texture path (mergeTexelsIntoDragPatches, per tile); on the exact path the triangles'
-  /// pieces are merged in grid cells at most twice this wide (meshDragPatches, no bake). Merging
-  /// loses spin damping as this squared: 4 % of a spinning cube's drag torque at 0.2, 1 % at 0.1.
+  /// Drag patches reach at most this fraction of the body's largest extent: a rigid body's
+  /// triangle pieces are merged in grid cells at most twice this wide (meshDragPatches, no bake);
+  /// a deforming body's texels from their first texel (mergeTexelsIntoDragPatches, per tile).
+  /// Merging loses spin damping as this squared: 4 % of a spinning cube's drag torque at 0.2, 1 %
+  /// at 0.1.
   double dragPatchRadiusFraction = 0.2;
 
   /// One line naming the first unusable value, or Ok.
