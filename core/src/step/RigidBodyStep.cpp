@@ -424,8 +424,8 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
   // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
   // M is m' I on v and the inertia on w, K acts on (v_y, w_x, w_z) and the drag's damping C on
-  // all of u = (v, w): one 6 x 6 symmetric positive definite system (LDLT). Without drag v_x and
-  // v_z decouple, as before (one division each in the solve).
+  // all of u = (v, w): one 6 x 6 symmetric positive definite system (LDLT; without drag the rows
+  // of v_x and v_z are diagonal, and they decouple).
   const double mass = motion.mass;
   const Eigen::Matrix3d& inertiaWorld = motion.inertiaWorld;
   const Eigen::Vector3d& v = motion.linearVelocity;
