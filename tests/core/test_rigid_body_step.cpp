@@ -299,10 +299,11 @@ TEST_CASE("flooding keeps the momentum of the liquid that enters and leaves", "[
   CHECK(floodingVelocityCorrection(kept, liquid, massBefore, 0.0, rho, inflow, outflow).isZero(0.0));
 }
 
-TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipped", "[step][drag]") {
-  const FlatSurface water(0.3, 1000.0);
-  // A ring of patches around a tilted, spinning body cut by the waterline: some clusters dry,
-  // some wet, some cut.
+namespace {
+
+/// A ring of 97 patches of varied facing around a body of about 2 x 3 x 1.2 m (mesh frame): cut
+/// by a waterline near y = 0, some of its clusters are dry, some wet, some cut.
+std::vector<DragPatch> ringOfPatches() {
   std::vector<DragPatch> patches;
   for (int i = 0; i < 97; ++i) {
     const double a = 0.37 * i, b = 0.11 * i;
@@ -313,18 +314,34 @@ TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipp
     patch.radius = 0.05f + 0.001f * float(i % 7);
     patches.push_back(patch);
   }
-  patches[5].areaVector.setZero();  // no projected area: wetted, no force
-  DragBody body;
-  body.patches = patches;
-  for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
-  body.referenceLength = 2.0;
-  body.rotationalDamping = 0.1;
+  return patches;
+}
+
+/// The ring's body tilted, moving and spinning, its centre of mass off the mesh origin.
+RigidBodyMotion ringMotion() {
   RigidBodyMotion motion = cube(800.0);
   motion.meshPose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   motion.meshPose.translation = {12.0, 0.1, -7.0};
   motion.center = motion.meshPose.translation + motion.meshPose.rotation * Eigen::Vector3d(0.05, -0.1, 0.02);
   motion.linearVelocity = {0.7, -0.3, 0.2};
   motion.angularVelocity = {0.5, 1.2, -0.8};
+  return motion;
+}
+
+}  // namespace
+
+TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipped", "[step][drag]") {
+  const FlatSurface water(0.3, 1000.0);
+  // A ring of patches around a tilted, spinning body cut by the waterline: some clusters dry,
+  // some wet, some cut.
+  std::vector<DragPatch> patches = ringOfPatches();
+  patches[5].areaVector.setZero();  // no projected area: wetted, no force
+  DragBody body;
+  body.patches = patches;
+  for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
+  body.referenceLength = 2.0;
+  body.rotationalDamping = 0.1;
+  RigidBodyMotion motion = ringMotion();
   const DragLiquid liquid{&water, Eigen::Vector3d::Zero(), 1e-3, 0.0};
   const double dt = 1.0 / 60.0;
   const DragLoads unprepared = rigidBodyDrag(body, motion, liquid, dt);
@@ -446,28 +463,14 @@ TEST_CASE("rigid body drag: its damping is the derivative of its force and torqu
   // depend on the velocities), step 1e-6 m/s, within 1e-5 of C's norm (the law is smooth away
   // from s = 0 and t = 0, where no patch sits at these velocities).
   const FlatSurface water(0.3, 1000.0);
-  std::vector<DragPatch> patches;
-  for (int i = 0; i < 97; ++i) {
-    const double a = 0.37 * i, b = 0.11 * i;
-    DragPatch patch;
-    patch.position = Eigen::Vector3f(float(std::cos(a)), float(std::sin(b) * 1.5), float(std::sin(a) * 0.6));
-    patch.areaVector = Eigen::Vector3f(float(0.02 * std::cos(a)), float(0.01 * std::sin(b)), float(0.02 * std::sin(a)));
-    patch.area = float(1.1 * patch.areaVector.norm());
-    patch.radius = 0.05f + 0.001f * float(i % 7);
-    patches.push_back(patch);
-  }
+  std::vector<DragPatch> patches = ringOfPatches();
   DragBody body;
   body.patches = patches;
   for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
   body.referenceLength = 2.0;
   body.rotationalDamping = 0.1;
   body.coefficients.skinFrictionScale = 1.0;
-  RigidBodyMotion motion = cube(800.0);
-  motion.meshPose.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  motion.meshPose.translation = {12.0, 0.1, -7.0};
-  motion.center = motion.meshPose.translation + motion.meshPose.rotation * Eigen::Vector3d(0.05, -0.1, 0.02);
-  motion.linearVelocity = {0.7, -0.3, 0.2};
-  motion.angularVelocity = {0.5, 1.2, -0.8};
+  RigidBodyMotion motion = ringMotion();
   // No viscosity: the skin friction coefficient is one number per body and step from its
   // Reynolds number, which the damping holds fixed; the friction's own derivative is checked on
   // the element law below.
