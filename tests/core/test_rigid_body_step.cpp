@@ -76,6 +76,88 @@ TEST_CASE("a heave stiffness is taken with theta = min(1, omega^2 dt^2)", "[step
   }
 }
 
+TEST_CASE("a full stiffness: stable modes implicit, a slow capsizing mode explicit, any damping solved", "[step]") {
+  // The update against the linear system it stands for, built here from Eigen's generalized
+  // eigen solver (K v = lambda G v, V^T G V = I) and a full-pivot LU, not from the update's own
+  // steps (the 3 x 3 closed-form roots, the skipped eigenvectors, Cholesky): to 1e-12 relative,
+  // double rounding of a well-conditioned 6 x 6 system.
+  RigidBodyMotion motion;
+  motion.mass = 500.0;
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  motion.inertiaWorld = turn * Eigen::Vector3d(40.0, 60.0, 50.0).asDiagonal() * turn.transpose();
+  motion.linearVelocity = {0.3, -0.5, 0.1};
+  motion.angularVelocity = {0.2, -0.1, 0.3};
+  const double dt = 1.0 / 60.0;
+  // The generalized mass on (heave, roll, pitch): m, and the roll-pitch inertia with the spin free.
+  const Eigen::Matrix3d inverse = motion.inertiaWorld.inverse();
+  Eigen::Matrix2d rollPitchInverse;
+  rollPitchInverse << inverse(0, 0), inverse(0, 2), inverse(2, 0), inverse(2, 2);
+  Eigen::Matrix3d generalizedMass = Eigen::Matrix3d::Zero();
+  generalizedMass(0, 0) = motion.mass;
+  generalizedMass.bottomRightCorner<2, 2>() = rollPitchInverse.inverse();
+  auto expected = [&](const ImplicitUpdateInput& input) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> modes(input.stiffness, generalizedMass);
+    Eigen::Vector3d rates = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 3; ++i) {
+      const double rate = modes.eigenvalues()[i];
+      if (rate > 0.0 || rate * dt * dt < -1.0) rates[i] = std::abs(rate);
+    }
+    const Eigen::Matrix3d gv = generalizedMass * modes.eigenvectors();
+    const Eigen::Matrix3d implicitPart = gv * rates.asDiagonal() * gv.transpose();
+    const double theta = std::min(1.0, rates.maxCoeff() * dt * dt);
+    Eigen::Matrix<double, 6, 6> system = Eigen::Matrix<double, 6, 6>::Zero();
+    system.topLeftCorner<3, 3>() = motion.mass * Eigen::Matrix3d::Identity();
+    system.bottomRightCorner<3, 3>() = motion.inertiaWorld;
+    const int index[3] = {1, 3, 5};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) system(index[i], index[j]) += theta * dt * dt * implicitPart(i, j);
+    Eigen::Matrix<double, 6, 1> u, rhs;
+    u << motion.linearVelocity, motion.angularVelocity;
+    rhs << motion.mass * motion.linearVelocity + dt * (motion.mass * input.gravity + input.force),
+        motion.inertiaWorld * motion.angularVelocity + dt * input.torque;
+    const Eigen::Matrix<double, 6, 6> c = 0.5 * dt * (input.dragDamping + input.dragDamping.transpose());
+    system += c;
+    rhs += c * u;
+    return Eigen::Matrix<double, 6, 1>(system.fullPivLu().solve(rhs));
+  };
+  auto check = [&](const ImplicitUpdateInput& input) {
+    const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, dt);
+    REQUIRE(next);
+    Eigen::Matrix<double, 6, 1> got;
+    got << next->linear, next->angular;
+    const Eigen::Matrix<double, 6, 1> want = expected(input);
+    CHECK((got - want).norm() <= 1e-12 * want.norm());
+  };
+  ImplicitUpdateInput input;
+  input.gravity = {0, -9.81, 0};
+  input.force = {20.0, 4500.0, -10.0};
+  input.torque = {30.0, -5.0, 12.0};
+  // A floating body's stiffness, coupled and positive definite: every mode implicit.
+  input.stiffness << 2.0e4, 300.0, -200.0, 300.0, 5.0e3, 400.0, -200.0, 400.0, 6.0e3;
+  check(input);
+  // Roll made unstable but slow (|omega^2| dt^2 << 1): that mode stays explicit.
+  input.stiffness(1, 1) = -2.0e3;
+  {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> modes(input.stiffness, generalizedMass);
+    REQUIRE(modes.eigenvalues().minCoeff() < 0.0);
+    REQUIRE(modes.eigenvalues().minCoeff() * dt * dt > -1.0);
+  }
+  check(input);
+  // A damping that is not semi-definite (a law with a negative rate) can leave the system
+  // indefinite: it is still solved.
+  input.stiffness(1, 1) = 5.0e3;
+  input.dragDamping = Eigen::Matrix<double, 6, 6>::Zero();
+  input.dragDamping(0, 0) = -2.0 * motion.mass / dt * 1.5;
+  {
+    Eigen::Matrix<double, 6, 6> mass = Eigen::Matrix<double, 6, 6>::Zero();
+    mass.topLeftCorner<3, 3>() = motion.mass * Eigen::Matrix3d::Identity();
+    mass.bottomRightCorner<3, 3>() = motion.inertiaWorld;
+    REQUIRE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(mass + dt * input.dragDamping).eigenvalues().minCoeff() <
+            0.0);
+  }
+  check(input);
+}
+
 TEST_CASE("the implicit update never gains energy from the stiffness", "[step]") {
   // A heave oscillator x'' = -(k/m) x stepped as the controller does (force -k x, stiffness k,
   // then x += dt v'): at omega dt = 0.5 (ordinary) and 3 (a light body, theta = 1) the amplitude
