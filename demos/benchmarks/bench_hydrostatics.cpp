@@ -155,11 +155,18 @@ void exactWavesTable(int rounds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 2 && std::string(argv[2]) == "--exact-waves") {
+  // [CSV] [--waves | --exact-waves]: anything else (an option where the CSV path goes, a third
+  // argument) prints the usage, so that `--help` never becomes the name of a CSV file.
+  const std::string csvArgument = argc > 1 ? argv[1] : "", table = argc > 2 ? argv[2] : "";
+  if (argc > 3 || csvArgument.starts_with("-") || (!table.empty() && table != "--waves" && table != "--exact-waves")) {
+    std::printf("usage: bench_hydrostatics [CSV (default bench_hydrostatics.csv)] [--waves | --exact-waves]\n");
+    return csvArgument == "--help" || csvArgument == "-h" ? 0 : 2;
+  }
+  if (table == "--exact-waves") {
     exactWavesTable(9);
     return 0;
   }
-  const std::string csvPath = argc > 1 ? argv[1] : "bench_hydrostatics.csv";
+  const std::string csvPath = csvArgument.empty() ? "bench_hydrostatics.csv" : csvArgument;
   {
     const std::vector<WavesRow> waves = wavesTable(9);
     std::printf("%-24s %-22s %10s %10s %7s %5s %12s %14s\n", "body", "sea", "flat us", "waves us", "ratio", "goal",
@@ -178,7 +185,7 @@ int main(int argc, char** argv) {
     }
     std::printf("wrote %s\n\n", wavesPath.c_str());
     std::fflush(stdout);
-    if (argc > 2 && std::string(argv[2]) == "--waves") return 0;
+    if (table == "--waves") return 0;
   }
   std::vector<Row> rows;
   std::printf("%-28s %-28s %12s %14s %16s\n", "benchmark", "configuration", "size", "us/query", "ns/element");
