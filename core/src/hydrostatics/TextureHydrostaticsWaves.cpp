@@ -200,7 +200,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   // The texels of a tile, with the model's heights or (model null) the surface's own. The height
   // needs only the texel's position: a dry texel costs no more. The pose and the model are
   // copied to locals so that the stores into the sums do not make the compiler reload them.
-  auto addTexels = [&](const Tile& tile, const Model* model) {
+  auto addTexels = [&](const Tile& tile, const Model* model, double modelHighest) {
     const double x0 = xRow.x(), x1 = xRow.y(), x2 = xRow.z(), y0 = yRow.x(), y1 = yRow.y(), y2 = yRow.z();
     const double z0 = zRow.x(), z1 = zRow.y(), z2 = zRow.z();
     const double bx = offset.x(), by = offset.y(), bz = offset.z();
@@ -217,7 +217,8 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double span = moment ? std::max(halfSpan, double(moment->reach)) : halfSpan;  // its pieces' reach
       const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
       const double y = y0 * px + y1 * py + y2 * pz + by;
-      if (!model && y - span >= highest) continue;
+      // Over the highest surface (the model's over this tile, bound included): dry, no height asked.
+      if (y - span >= modelHighest) continue;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;
       // A corrected texel needs the slope too (WettedSums::addMomentCorrection): the model's, or
@@ -281,7 +282,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
         submerged.add(tile.moments);
         continue;
       }
-      addTexels(tile, &model);
+      addTexels(tile, &model, tileHigh);
     }
     addWave(submerged, unit.boundsCenter, model);
   };
@@ -316,7 +317,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
         if (modelOver(tileFootprint, model))
           addUnder(tile, g, g + 1, tileFootprint, model, low, high);
         else
-          addTexels(tile, nullptr);
+          addTexels(tile, nullptr, highest);
       }
     }
   }
