@@ -79,7 +79,7 @@ TEST_CASE("a heave stiffness is taken with theta = min(1, omega^2 dt^2)", "[step
 TEST_CASE("a full stiffness: stable modes implicit, a slow capsizing mode explicit, any damping solved", "[step]") {
   // The update against the linear system it stands for, built here from Eigen's generalized
   // eigen solver (K v = lambda G v, V^T G V = I) and a full-pivot LU, not from the update's own
-  // steps (the 3 x 3 closed-form roots, the skipped eigenvectors, Cholesky): to 1e-12 relative,
+  // steps (the 3 x 3 closed-form roots, the skipped eigenvectors, LDLT): to 1e-12 relative,
   // double rounding of a well-conditioned 6 x 6 system.
   RigidBodyMotion motion;
   motion.mass = 500.0;

@@ -44,14 +44,19 @@ Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen:
   const Eigen::Matrix3d normalized = lowerInverse * symmetric * lowerInverse.transpose();
   // The closed-form 3x3 solver (trigonometric roots): several times cheaper than the iterative
   // one, and every body's step asks it; its eigenvalues are accurate to ~1e-15 of the largest.
-  // Eigenvalues first: when every mode is stable (a body floating upright, the common case) the
-  // modal sum below is K itself, and the eigenvectors are not needed.
+  // When every mode is stable (a body floating upright, the common case) the modal sum below is K
+  // itself and only the largest rate is needed, not the eigenvectors. K's leading minors tell
+  // (L^-1 K L^-T has K's signs of eigenvalues: Sylvester's law of inertia), so that a body with a
+  // mode that is not stable (a sphere's free roll) pays the solver once, as before.
   const Eigen::Matrix3d modes = 0.5 * (normalized + normalized.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(modes, Eigen::EigenvaluesOnly);
-  if (solver.eigenvalues().minCoeff() > 0.0) {
-    largestRate = solver.eigenvalues().maxCoeff();
-    return symmetric;
+  const double minor1 = symmetric(0, 0), minor2 = minor1 * symmetric(1, 1) - symmetric(0, 1) * symmetric(1, 0);
+  if (minor1 > 0.0 && minor2 > 0.0 && symmetric.determinant() > 0.0) {
+    solver.computeDirect(modes, Eigen::EigenvaluesOnly);
+    if (solver.eigenvalues().minCoeff() > 0.0) {
+      largestRate = solver.eigenvalues().maxCoeff();
+      return symmetric;
+    }
   }
   solver.computeDirect(modes);
   Eigen::Vector3d rates = Eigen::Vector3d::Zero();
@@ -432,7 +437,7 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   // axis with an inertia 5e5 times smaller (rollPitchInertia); measured by I_xx its 100 rad/s
   // roll looked slow, stayed explicit at omega dt = 1.6 and gained energy (issue 11).
   // M is m' I on v and the inertia on w, K acts on (v_y, w_x, w_z) and the drag's damping C on
-  // all of u = (v, w): one 6 x 6 symmetric positive definite system (Cholesky; without drag the rows
+  // all of u = (v, w): one 6 x 6 symmetric positive definite system (LDLT; without drag the rows
   // of v_x and v_z are diagonal, and they decouple).
   const double mass = motion.mass;
   const Eigen::Matrix3d& inertiaWorld = motion.inertiaWorld;
@@ -464,12 +469,10 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) system(kIndex[i], kIndex[j]) += theta * dt * dt * implicitPart(i, j);
   }
-  // M is positive definite and K's implicit part and the damping's symmetric part semi-definite:
-  // Cholesky, without LDLT's pivot search; LDLT where a damping that is not (a law's negative
-  // rate) leaves the system indefinite.
-  const Eigen::LLT<Matrix6d> cholesky(system);
-  const Vector6d solved =
-      cholesky.info() == Eigen::Success ? Vector6d(cholesky.solve(rhs)) : Vector6d(system.ldlt().solve(rhs));
+  // LDLT with its diagonal pivoting, not a plain Cholesky (LLT): a needle's system spans many
+  // orders of magnitude (its roll inertia, 1 mm across, against its mass), and with LLT
+  // test_hard_cases' needle spun up to 126 rad/s under double-precision Bullet (bound 110).
+  const Vector6d solved = system.ldlt().solve(rhs);
   const RigidBodyVelocities next{solved.head<3>(), solved.tail<3>()};
   if (!next.linear.allFinite() || !next.angular.allFinite())
     return Error{"implicit velocity update: the step's system gave non-finite velocities"};
