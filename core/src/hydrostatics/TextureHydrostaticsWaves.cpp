@@ -197,9 +197,11 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     wave.add(m, c, model.h, d, e, yRow);
     under.add(m);
   };
-  // The texels of a tile, with the model's heights or (model null) the surface's own. The height
-  // needs only the texel's position: a dry texel costs no more. The pose and the model are
-  // copied to locals so that the stores into the sums do not make the compiler reload them.
+  // The texels of a tile, with the model's heights or (model null) the surface's own, under
+  // `modelHighest` (frame o), the highest those heights can be over the tile: the model's range
+  // with its bound, or the surface's highest crest. The height needs only the texel's position: a
+  // dry texel costs no more. The pose and the model are copied to locals so that the stores into
+  // the sums do not make the compiler reload them.
   auto addTexels = [&](const Tile& tile, const Model* model, double modelHighest) {
     const double x0 = xRow.x(), x1 = xRow.y(), x2 = xRow.z(), y0 = yRow.x(), y1 = yRow.y(), y2 = yRow.z();
     const double z0 = zRow.x(), z1 = zRow.y(), z2 = zRow.z();
@@ -217,7 +219,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double span = moment ? std::max(halfSpan, double(moment->reach)) : halfSpan;  // its pieces' reach
       const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
       const double y = y0 * px + y1 * py + y2 * pz + by;
-      // Over the highest surface (the model's over this tile, bound included): dry, no height asked.
+      // Over the highest surface it can meet: dry, no height asked.
       if (y - span >= modelHighest) continue;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;

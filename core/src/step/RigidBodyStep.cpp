@@ -53,10 +53,8 @@ Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen:
   const double minor1 = symmetric(0, 0), minor2 = minor1 * symmetric(1, 1) - symmetric(0, 1) * symmetric(1, 0);
   if (minor1 > 0.0 && minor2 > 0.0 && symmetric.determinant() > 0.0) {
     solver.computeDirect(modes, Eigen::EigenvaluesOnly);
-    if (solver.eigenvalues().minCoeff() > 0.0) {
-      largestRate = solver.eigenvalues().maxCoeff();
-      return symmetric;
-    }
+    largestRate = solver.eigenvalues().maxCoeff();
+    return symmetric;
   }
   solver.computeDirect(modes);
   Eigen::Vector3d rates = Eigen::Vector3d::Zero();
