@@ -81,7 +81,9 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
   }
 }
 
-double GerstnerWaves::surfaceHeight(double x, double z, double time) const { return restPoint(x, z, time).height; }
+double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
+  return restPoint(x, z, time, kHorizontalTolerance, true).height;
+}
 
 namespace {
 // sin and cos of a small angle |a| <= kRotationLimit by their Taylor series to a^13 and a^12

@@ -203,7 +203,7 @@ class GerstnerWaves final : public LiquidSurface {
     double sine[kCachedWaves], cosine[kCachedWaves];
   };
   // turnPhases: after the first evaluation, turn the sines and cosines by each step instead of
-  // calling sin and cos (heightJet: ~1e-16 apart; surfaceHeight keeps the calls, bit for bit).
+  // calling sin and cos (~1e-16 apart; heightJet and surfaceHeight both turn them).
   RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
                       bool turnPhases = false) const;
 
