@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hydrostatics/HydrostaticSums.hpp"  // private to core (core/src): the moment corrections
 #include "hydrostatics/SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
 #include "RandomRotation.hpp"
 #include "TestSurfaces.hpp"
@@ -160,6 +161,60 @@ TEST_CASE("Jet grid: interpolation and local models stay within their error boun
         }
       }
     }
+  }
+}
+
+TEST_CASE("Moment corrections summed in the body frame equal the law texel by texel in the world frame",
+          "[hydrostatics][texture][waves]") {
+  // MomentCorrectionSums rotates the sums once instead of each texel's dm = R dM R^T: the terms
+  // are linear in dM, so the two agree to rounding for any R (here rotations perturbed by 1e-7,
+  // as the engine's are orthogonal only to about that). Three of the law's sums are also checked
+  // against its statement in the world frame (HydrostaticSums.hpp): Sum D A_k gains
+  // w grad D . dm(:, k), Sum A_y x' gains w dm(0, 1) and Sum (Q/2 - h' D) A_y gains
+  // w (y' dm(1, 1) - h' (slopeX dm(0, 1) + slopeZ dm(2, 1))). Tolerance: 1e-12 of the sums' scale
+  // (moments ~1e-3 m^3, positions ~1 m, 8 texels: sums ~1e-2).
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    Eigen::Matrix3d r = randomRotation(rng);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r(i, j) += 1e-7 * unit(rng);
+    const double rows[3][3] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
+    detail::MomentCorrectionSums bodyFrame;
+    detail::WettedSums perTexel;
+    double expectedDA[3] = {0, 0, 0}, expectedXAy = 0.0, expectedYB = 0.0;
+    for (int texel = 0; texel < 8; ++texel) {
+      float moment[3][3];
+      Eigen::Matrix3d m;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m(i, j) = moment[i][j] = float(1e-3 * unit(rng));
+      const double x = unit(rng), y = unit(rng), z = unit(rng), height = 0.3 * unit(rng), weight = 0.5 + 0.5 * unit(rng);
+      const double slopeX = 0.3 * unit(rng), slopeZ = 0.3 * unit(rng), depth = height - y;
+      bodyFrame.add(x, y, z, moment, weight, depth, height, slopeX, slopeZ, rows[0], rows[1], rows[2]);
+      const Eigen::Matrix3d dm = r * m * r.transpose();
+      perTexel.addMomentCorrection(x, y, z, dm, weight, depth, height, slopeX, slopeZ);
+      for (int k = 0; k < 3; ++k) expectedDA[k] += weight * (slopeX * dm(0, k) - dm(1, k) + slopeZ * dm(2, k));
+      expectedXAy += weight * dm(0, 1);
+      expectedYB += weight * (y * dm(1, 1) - height * (slopeX * dm(0, 1) + slopeZ * dm(2, 1)));
+    }
+    detail::WettedSums rotatedOnce;
+    bodyFrame.addTo(rotatedOnce, r);
+    const double tolerance = 1e-14;  // 1e-12 of the sums' scale ~1e-2
+    for (int k = 0; k < 3; ++k) {
+      CHECK(rotatedOnce.sumDA[k] == Approx(perTexel.sumDA[k]).margin(tolerance));
+      CHECK(rotatedOnce.sumDxA[k] == Approx(perTexel.sumDxA[k]).margin(tolerance));
+      CHECK(perTexel.sumDA[k] == Approx(expectedDA[k]).margin(tolerance));
+    }
+    CHECK(rotatedOnce.sumDXAy == Approx(perTexel.sumDXAy).margin(tolerance));
+    CHECK(rotatedOnce.sumDZAy == Approx(perTexel.sumDZAy).margin(tolerance));
+    CHECK(rotatedOnce.sumYB == Approx(perTexel.sumYB).margin(tolerance));
+    CHECK(rotatedOnce.sumXAy == Approx(perTexel.sumXAy).margin(tolerance));
+    CHECK(rotatedOnce.sumZAy == Approx(perTexel.sumZAy).margin(tolerance));
+    CHECK(rotatedOnce.sumXXAy == Approx(perTexel.sumXXAy).margin(tolerance));
+    CHECK(rotatedOnce.sumXZAy == Approx(perTexel.sumXZAy).margin(tolerance));
+    CHECK(rotatedOnce.sumZZAy == Approx(perTexel.sumZZAy).margin(tolerance));
+    CHECK(perTexel.sumXAy == Approx(expectedXAy).margin(tolerance));
+    CHECK(perTexel.sumYB == Approx(expectedYB).margin(tolerance));
   }
 }
 

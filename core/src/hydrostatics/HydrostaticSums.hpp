@@ -64,34 +64,10 @@ struct WettedSums {
 
   /// Adds the part of one texel's sums that its single position leaves out when its pieces lie
   /// on several triangles (SurfaceTextures::momentCorrection, here in the world frame:
-  /// dm = R dM R^T, m^3), times `weight` (correctionWeight, below). Each sum is Sum g(x) A_k over
-  /// the pieces for some g; with c_k = x' + d_k, Sum_k g(c_k) A_k = g(x') A + grad g(x') .
-  /// Sum_k d_k A_k + O(d^2) = g(x') A + grad g . dm(:, k): exact for the linear g (the volume and
-  /// force under a plane), first order in the texel size for the others. `depth` is the depth
-  /// D = h' - y' at the texel's centre, `localHeight` h' and (slopeX, slopeZ) the surface's
-  /// slope there (0 under a plane or where the surface gives no slope), so grad D =
-  /// (slopeX, -1, slopeZ) and grad (Q/2 - h' D) = grad (y'^2 - h'^2)/2 = y' e_y - h' grad h'.
+  /// dm = R dM R^T, m^3), times `weight` (correctionWeight, below): MomentCorrectionSums' law
+  /// for one texel, in the frame of the sums (R = I).
   inline void addMomentCorrection(double x, double y, double z, const Eigen::Matrix3d& dm, double weight,
-                                  double depth, double localHeight, double slopeX, double slopeZ) {
-    const double w = weight;
-    // grad D . dm(:, k)
-    const Eigen::Vector3d along = slopeX * dm.row(0) - dm.row(1) + slopeZ * dm.row(2);
-    for (int k = 0; k < 3; ++k) sumDA[k] += w * along[k];
-    // D x'_i A_k: grad = D e_i + x'_i grad D; the cross product's components.
-    const double position[3] = {x, y, z};
-    auto moment = [&](int i, int k) { return depth * dm(i, k) + position[i] * along[k]; };
-    sumDxA[0] += w * (moment(1, 2) - moment(2, 1));
-    sumDxA[1] += w * (moment(2, 0) - moment(0, 2));
-    sumDxA[2] += w * (moment(0, 1) - moment(1, 0));
-    sumDXAy += w * moment(0, 1);
-    sumDZAy += w * moment(2, 1);
-    sumYB += w * (y * dm(1, 1) - localHeight * (slopeX * dm(0, 1) + slopeZ * dm(2, 1)));
-    sumXAy += w * dm(0, 1);
-    sumZAy += w * dm(2, 1);
-    sumXXAy += w * 2.0 * x * dm(0, 1);
-    sumXZAy += w * (x * dm(2, 1) + z * dm(0, 1));
-    sumZZAy += w * 2.0 * z * dm(2, 1);
-  }
+                                  double depth, double localHeight, double slopeX, double slopeZ);
 
   /// addMomentCorrection under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
   /// result reads (finishHydrostatics with ForceModel::Archimedes), which need only the column
@@ -136,6 +112,114 @@ struct WettedSums {
   void addSubmergedMoments(const TextureHydrostatics::Moments& moments, const Eigen::Matrix3d& rotation,
                            const Eigen::Vector3d& offset);
 };
+
+/// The moment corrections of many texels (SurfaceTextures::momentCorrection) summed in the body
+/// frame of their moments dM, so that no texel pays for dm = R dM R^T: every term below is linear
+/// in dM, so the rotation R (any matrix: the engine's is orthogonal only to ~1e-7) is applied
+/// once to the sums (addTo). The law: each of WettedSums' sums is Sum g(x) A_k over the pieces
+/// for some g; with c_k = x' + d_k, Sum_k g(c_k) A_k = g(x') A + grad g(x') . Sum_k d_k A_k +
+/// O(d^2) = g(x') A + grad g . dm(:, k): exact for the linear g (the volume and force under a
+/// plane), first order in the texel size for the others. With D = h' - y' the depth at the
+/// texel's centre, h' the local surface height and (slopeX, slopeZ) its slope there (0 under a
+/// plane), grad D = g = (slopeX, -1, slopeZ) and grad (Q/2 - h' D) = y' e_y - h' grad h', so with
+/// u = (R^T g)^T dM (body) and c = dM r1 (r1 = R^T e_y, the rotation's y row):
+///   Sum D A         += R u                      (grad D . dm(:, k) = (R u)_k)
+///   Sum D x'_i A_k  += (R (D dM) R^T + x' u^T R^T)_ik
+///   Sum (Q/2 - h' D) A_y += (y' - h') r1 . c - h' u . r1
+///   Sum f A_y, f = 1, x', z', x'^2, x' z', z'^2 += grad f . R c (dm(:, 1) = R c).
+struct alignas(32) MomentCorrectionSums {
+  // Rows of four (the fourth unused) so that the compiler's paired loads and stores of the sums
+  // line up from one texel to the next (mixed widths stall store forwarding).
+  alignas(32) double u[4] = {0, 0, 0, 0};         ///< Sum w u (m^3)
+  alignas(32) double depthMoment[3][4] = {};      ///< Sum w D dM (m^4)
+  alignas(32) double positionU[3][4] = {};        ///< Sum w x' u^T (m^4; rows world, columns body)
+  alignas(32) double c[4] = {0, 0, 0, 0};         ///< Sum w c (m^3)
+  alignas(32) double xc[4] = {0, 0, 0, 0};        ///< Sum w x' c (m^4)
+  alignas(32) double zc[4] = {0, 0, 0, 0};        ///< Sum w z' c (m^4)
+  double yb = 0.0;                                ///< Sum w ((y' - h') r1 . c - h' u . r1) (m^4)
+
+  /// Adds one texel at x' = (x, y, z) (m, world frame at o) whose body-frame moment is `m`
+  /// (m^3, row-major), with `weight`, `depth` D (m), `localHeight` h' (m) and the surface's slope;
+  /// `xRow`, `yRow`, `zRow` are the rotation's rows.
+  template <class Scalar>
+  [[gnu::always_inline]] inline void add(double x, double y, double z, const Scalar (&m)[3][3], double weight,
+                                         double depth, double localHeight, double slopeX, double slopeZ,
+                                         const double (&xRow)[3], const double (&yRow)[3], const double (&zRow)[3]) {
+    double g[3], uu[3], cc[3];
+    for (int i = 0; i < 3; ++i) g[i] = slopeX * xRow[i] - yRow[i] + slopeZ * zRow[i];
+    for (int j = 0; j < 3; ++j) uu[j] = g[0] * double(m[0][j]) + g[1] * double(m[1][j]) + g[2] * double(m[2][j]);
+    for (int i = 0; i < 3; ++i) cc[i] = double(m[i][0]) * yRow[0] + double(m[i][1]) * yRow[1] + double(m[i][2]) * yRow[2];
+    const double w = weight, wd = weight * depth;
+    const double position[3] = {w * x, w * y, w * z};
+    for (int i = 0; i < 3; ++i) {
+      u[i] += w * uu[i];
+      c[i] += w * cc[i];
+      xc[i] += position[0] * cc[i];
+      zc[i] += position[2] * cc[i];
+      for (int j = 0; j < 3; ++j) {
+        depthMoment[i][j] += wd * double(m[i][j]);
+        positionU[i][j] += position[i] * uu[j];
+      }
+    }
+    const double rc = yRow[0] * cc[0] + yRow[1] * cc[1] + yRow[2] * cc[2];
+    const double ru = yRow[0] * uu[0] + yRow[1] * uu[1] + yRow[2] * uu[2];
+    yb += w * ((y - localHeight) * rc - localHeight * ru);
+  }
+
+  /// Adds another set of corrections (the same rotation).
+  inline void add(const MomentCorrectionSums& o) {
+    for (int i = 0; i < 3; ++i) {
+      u[i] += o.u[i];
+      c[i] += o.c[i];
+      xc[i] += o.xc[i];
+      zc[i] += o.zc[i];
+      for (int j = 0; j < 3; ++j) {
+        depthMoment[i][j] += o.depthMoment[i][j];
+        positionU[i][j] += o.positionU[i][j];
+      }
+    }
+    yb += o.yb;
+  }
+
+  /// Adds the corrections to `sums`, with R = `rotation` the rows' matrix.
+  inline void addTo(WettedSums& sums, const Eigen::Matrix3d& rotation) const {
+    const Eigen::Matrix3d& r = rotation;
+    const Eigen::Vector3d along = r * Eigen::Vector3d(u[0], u[1], u[2]);
+    Eigen::Matrix3d d, p;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        d(i, j) = depthMoment[i][j];
+        p(i, j) = positionU[i][j];
+      }
+    const Eigen::Matrix3d moment = r * d * r.transpose() + p * r.transpose();  // Sum D x'_i A_k
+    for (int k = 0; k < 3; ++k) sums.sumDA[k] += along[k];
+    sums.sumDxA[0] += moment(1, 2) - moment(2, 1);
+    sums.sumDxA[1] += moment(2, 0) - moment(0, 2);
+    sums.sumDxA[2] += moment(0, 1) - moment(1, 0);
+    sums.sumDXAy += moment(0, 1);
+    sums.sumDZAy += moment(2, 1);
+    sums.sumYB += yb;
+    const Eigen::Vector3d column = r * Eigen::Vector3d(c[0], c[1], c[2]);  // Sum w dm(:, 1)
+    const Eigen::Vector3d xColumn = r * Eigen::Vector3d(xc[0], xc[1], xc[2]);
+    const Eigen::Vector3d zColumn = r * Eigen::Vector3d(zc[0], zc[1], zc[2]);
+    sums.sumXAy += column.x();
+    sums.sumZAy += column.z();
+    sums.sumXXAy += 2.0 * xColumn.x();
+    sums.sumXZAy += xColumn.z() + zColumn.x();
+    sums.sumZZAy += 2.0 * zColumn.z();
+  }
+};
+
+inline void WettedSums::addMomentCorrection(double x, double y, double z, const Eigen::Matrix3d& dm, double weight,
+                                            double depth, double localHeight, double slopeX, double slopeZ) {
+  double m[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m[i][j] = dm(i, j);
+  static constexpr double kX[3] = {1, 0, 0}, kY[3] = {0, 1, 0}, kZ[3] = {0, 0, 1};
+  MomentCorrectionSums one;
+  one.add(x, y, z, m, weight, depth, localHeight, slopeX, slopeZ, kX, kY, kZ);
+  one.addTo(*this, Eigen::Matrix3d::Identity());
+}
 
 /// Submerged fractions of a planar patch p + s eU + t eV (s, t uniform on [-1/2, 1/2]) whose
 /// height above its centre is X = s eU.y + t eV.y, under a surface `depth` d above the centre.

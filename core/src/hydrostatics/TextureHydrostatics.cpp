@@ -85,11 +85,11 @@ inline Eigen::Matrix3d worldMoment(const MomentCorrection& c, const Eigen::Matri
 
 /// One texel under a wavy surface whose local height above the texel is `localHeight` (m, frame
 /// o), with the texel taken as a patch under a locally level surface; pressure from the depth.
-/// With its moment correction (null: none) and the surface's slope (slopeX, slopeZ) above it;
-/// p = rho g D, so its pressure sums are its depth sums times -rho g.
-inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const MomentCorrection* correction,
-                         const Eigen::Matrix3d& r, const PosedTexel& w, double a, double b, double depth,
-                         double localHeight, double slopeX, double slopeZ, double rhoG) {
+/// Its moment correction (null: none), with the surface's slope (slopeX, slopeZ) above it, goes
+/// into `corrections` (body frame; addWaveCorrections adds them).
+inline void addWaveTexel(detail::WettedSums& sums, detail::MomentCorrectionSums& corrections, const Texel& texel,
+                         const MomentCorrection* correction, const double (&rows)[3][3], const PosedTexel& w, double a,
+                         double b, double depth, double localHeight, double slopeX, double slopeZ, double rhoG) {
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
   const double p = rhoG * f.depth;
@@ -100,11 +100,18 @@ inline void addWaveTexel(detail::WettedSums& sums, const Texel& texel, const Mom
   sums.pressureTorque[0] += w.y * fz - w.z * fy;
   sums.pressureTorque[1] += w.z * fx - w.x * fz;
   sums.pressureTorque[2] += w.x * fy - w.y * fx;
-  if (!correction) return;
+  if (correction)
+    corrections.add(w.x, w.y, w.z, correction->moment,
+                    detail::correctionWeight(depth, 0.5 * (std::abs(a) + std::abs(b)), correction->reach), depth,
+                    localHeight, slopeX, slopeZ, rows[0], rows[1], rows[2]);
+}
+
+/// Adds addWaveTexel's moment corrections to `sums`, with their pressure: p = rho g D, so their
+/// pressure sums are their depth sums times -rho g.
+inline void addWaveCorrections(detail::WettedSums& sums, const detail::MomentCorrectionSums& corrections,
+                               const Eigen::Matrix3d& r, double rhoG) {
   detail::WettedSums part;
-  part.addMomentCorrection(w.x, w.y, w.z, worldMoment(*correction, r),
-                           detail::correctionWeight(depth, 0.5 * (std::abs(a) + std::abs(b)), correction->reach), depth,
-                           localHeight, slopeX, slopeZ);
+  corrections.addTo(part, r);
   for (int k = 0; k < 3; ++k) {
     part.pressureForce[k] = -rhoG * part.sumDA[k];
     part.pressureTorque[k] = -rhoG * part.sumDxA[k];
@@ -562,6 +569,8 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
   // Tiles and texels wholly above the surface's highest point are dry without asking the
   // surface, which costs far more than the texel (Gerstner: a Newton search per call).
   const double highest = surface.heightRange(q.time).second - origin.y();
+  const double rows[3][3] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
+  detail::MomentCorrectionSums corrections;
   for (const Tile& tile : tiles_) {
     double low, high;
     verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
@@ -584,10 +593,11 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
           (jet ? jet->height : surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time)) - origin.y();
       const double depth = localHeight - w.y;
       if (!(depth > -span)) continue;  // dry (or a NaN height)
-      addWaveTexel(sums, texel, correction, r, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
+      addWaveTexel(sums, corrections, texel, correction, rows, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
                    jet ? jet->slopeZ : 0.0, rhoG);
     }
   }
+  addWaveCorrections(sums, corrections, r, rhoG);
   return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, true);
 }
 

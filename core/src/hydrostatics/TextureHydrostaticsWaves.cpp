@@ -130,6 +130,9 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   Moments under;  // wholly submerged tiles: the flat part of their sums
   WavePart wave;  // and the wave part
   const Eigen::Vector3d xRow = r.row(0).transpose(), yRow = r.row(1).transpose(), zRow = r.row(2).transpose();
+  const double rows[3][3] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
+  // The corrected texels' moment corrections, in the body frame (rotated once, at the end).
+  detail::MomentCorrectionSums corrections;
 
   // A local model: the interpolated jet at a footprint's centre (local x, z) and its error bound
   // over the footprint's half-diagonal rho.
@@ -208,6 +211,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     const double bx = offset.x(), by = offset.y(), bz = offset.z();
     const Model m = model ? *model : Model{};
     detail::WettedSums local;  // this tile's texels, added to the query's sums at the end
+    detail::MomentCorrectionSums localCorrections;
     std::uint32_t correction = tile.correctionBegin;  // the next of the tile's moment corrections
     for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
       const Texel& texel = texels_[i];
@@ -243,16 +247,12 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double ax = texel.areaVector[0], ay = texel.areaVector[1], az = texel.areaVector[2];
       local.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
                        texel.area, f.area, f.depth, f.depthSq, height);
-      if (moment) {
-        Eigen::Matrix3d bodyMoment;
-        for (int row = 0; row < 3; ++row)
-          for (int k = 0; k < 3; ++k) bodyMoment(row, k) = moment->moment[row][k];
-        local.addMomentCorrection(x, y, z, r * bodyMoment * r.transpose(),
-                                  detail::correctionWeight(height - y, halfSpan, moment->reach), height - y, height, slopeX,
-                                  slopeZ);
-      }
+      if (moment)
+        localCorrections.add(x, y, z, moment->moment, detail::correctionWeight(height - y, halfSpan, moment->reach),
+                             height - y, height, slopeX, slopeZ, rows[0], rows[1], rows[2]);
     }
     sums.add(local);
+    corrections.add(localCorrections);
   };
 
   // A unit (a group, a block or a tile, holding the tiles [firstTile, lastTile)) under one model:
@@ -328,6 +328,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   // sum q A' = R W0, sum q x' x A' = R (sum q p x A) + b x R W0, sum q x'_x A'_y, and
   // sum (Q/2 - h' D) A'_y = sum (y'^2 - q^2)/2 A'_y.
   sums.addSubmergedMoments(under, r, offset);
+  corrections.addTo(sums, r);
   const Eigen::Vector3d w0 = r * Eigen::Vector3d(wave.w0[0], wave.w0[1], wave.w0[2]);
   const Eigen::Vector3d cross(wave.w1[1][2] - wave.w1[2][1], wave.w1[2][0] - wave.w1[0][2],
                               wave.w1[0][1] - wave.w1[1][0]);
