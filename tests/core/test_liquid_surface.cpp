@@ -75,12 +75,18 @@ TEST_CASE("Gerstner waves with steepness > 0 lie on the parametric trochoid", "[
     const GerstnerWaves sea(waves, -0.4);
     REQUIRE(sea.validate().ok());
     const auto [lowest, highest] = sea.heightRange(0.0);
+    double amplitudeSlope = 0.0;  // sum of k A
+    for (const GerstnerWave& w : waves) amplitudeSlope += w.amplitude * kTwoPi / w.wavelength;
     for (int i = 0; i < 200; ++i) {
       const double t = time(rng);
       const Eigen::Vector3d p = trochoidPoint(waves, -0.4, coordinate(rng), coordinate(rng), t);
       // The search stops on a horizontal step under kHorizontalTolerance; the height is then
       // within sum(k A) (~1.2 / m * m) of that step: 1e-8 m leaves room for the last step's size.
       CHECK(sea.surfaceHeight(p.x(), p.z(), t) == Approx(p.y()).margin(1e-8));
+      // The class's bound, sum(k A) kHorizontalTolerance, with the search's last step taken
+      // without an evaluation where Newton's convergence allows (~1.2e-9 m here).
+      CHECK(std::abs(sea.surfaceHeight(p.x(), p.z(), t) - p.y()) <=
+            amplitudeSlope * GerstnerWaves::kHorizontalTolerance + 1e-13);
       CHECK(p.y() >= lowest);
       CHECK(p.y() <= highest);
     }

@@ -79,10 +79,30 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
     components_.push_back({wave.amplitude, k, std::sqrt(std::max(gravity, 0.0) * k), wave.phase, wave.steepness,
                            dir.x(), dir.y()});
   }
+  // Newton on X(x0) = x0 + H(x0) = x: with sigma = 1 - sum Q A k (J's smallest singular value at
+  // worst) and |D2 X| <= K2 = sum Q A k^2, the error after a step s is |e| <= C (s + |e|)^2,
+  // C = K2 / (2 sigma), so |e| <= 3 C s^2 while 2 C s <= 1/2. The height at x0 - s taken as
+  // eta0(x0) - g0 . s is off by at most S2 s^2 / 2 (S2 = sum A k^2), and the error e moves it by
+  // at most S1 |e| (S1 = sum A k): in all (3 S1 C + S2 / 2) s^2, held to S1 kHorizontalTolerance,
+  // the bound of a search that evaluates once more (the class comment). |s| <= |dx| + |dz|.
+  double s1 = 0.0, s2 = 0.0, k1 = 0.0, k2 = 0.0;
+  for (const Component& c : components_) {
+    const double a = std::abs(c.amplitude), k = c.waveNumber;
+    s1 += a * k;
+    s2 += a * k * k;
+    k1 += c.steepness * a * k;
+    k2 += c.steepness * a * k * k;
+  }
+  const double sigma = 1.0 - k1;
+  if (sigma > 0.0 && s1 > 0.0 && std::isfinite(s1 + s2 + k2)) {
+    const double c = k2 / (2.0 * sigma);
+    const double step = std::sqrt(s1 * kHorizontalTolerance / (3.0 * s1 * c + 0.5 * s2));
+    extrapolationStep_ = c > 0.0 ? std::min(step, 0.25 / c) : step;
+  }
 }
 
 double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
-  return restPoint(x, z, time, kHorizontalTolerance, true).height;
+  return restPoint(x, z, time, kHorizontalTolerance, true, true).height;
 }
 
 namespace {
@@ -98,7 +118,7 @@ void smallSineCosine(double a, double& sine, double& cosine) {
 }  // namespace
 
 GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
-                                                  bool turnPhases) const {
+                                                  bool turnPhases, bool extrapolate) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -156,6 +176,12 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
     if (determinant > kMinDeterminant) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
+      if (extrapolate && std::abs(stepX) + std::abs(stepZ) <= extrapolationStep_) {
+        p.x0 -= stepX;
+        p.z0 -= stepZ;
+        p.height -= gx * stepX + gz * stepZ;
+        return p;
+      }
     }
     if (std::abs(stepX) + std::abs(stepZ) < tolerance) return p;
     if (iteration + 1 < kMaxIterations) {

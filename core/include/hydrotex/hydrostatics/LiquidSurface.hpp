@@ -134,8 +134,10 @@ struct GerstnerWave {
 /// A sum of Gerstner waves on deep water over a mean level, with the deep-water dispersion
 /// relation omega^2 = g k. surfaceHeight() finds the rest point whose displaced position lies
 /// above (x, z) by Newton iteration on the horizontal displacement (fixed-point steps where the
-/// Jacobian is nearly singular), stopping when a step is under kHorizontalTolerance; the height
-/// error is then at most sum(k A) * kHorizontalTolerance (exact for steepness 0).
+/// Jacobian is nearly singular), stopping when a step is under kHorizontalTolerance, or when a
+/// Newton step is small enough that Newton's quadratic convergence puts its end within that
+/// without another evaluation (the height then follows the step by its gradient); the height
+/// error is at most sum(k A) * kHorizontalTolerance either way (exact for steepness 0).
 class GerstnerWaves final : public LiquidSurface {
  public:
   /// Waves over `meanLevel` (m) in liquid of `density` (kg/m^3); `gravity` (m/s^2) sets the
@@ -204,14 +206,20 @@ class GerstnerWaves final : public LiquidSurface {
   };
   // turnPhases: after the first evaluation, turn the sines and cosines by each step instead of
   // calling sin and cos (~1e-16 apart; heightJet and surfaceHeight both turn them).
+  // extrapolate (surfaceHeight): a Newton step under extrapolationStep_ is taken without a new
+  // evaluation, the height moved along it by its gradient (the Jacobian, gradient and phases
+  // stay those of the last evaluated point, which heightJet needs and so never extrapolates).
   RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
-                      bool turnPhases = false) const;
+                      bool turnPhases = false, bool extrapolate = false) const;
 
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
   double meanLevel_;
   double density_;
   double gravity_;
+  // The largest Newton step (m, |dx| + |dz|) after which the rest point is within reach of the
+  // solution without another evaluation (GerstnerWaves' constructor: the bound).
+  double extrapolationStep_ = 0.0;
 };
 
 /// A regular grid of surface heights and liquid velocities over (x, z), interpolated bilinearly,
