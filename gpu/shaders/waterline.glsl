@@ -62,7 +62,7 @@ float correctionWeight(float depth, float halfSpan, float reach) {
 
 // A texel's moment correction in the 11 FlatWettedSums, weighted by its submerged fraction
 // `weight`, at x' = (x, y, z) with the depth D = h' - y' at its centre, the local height h' and the
-// surface's slope there (core's WettedSums::addMomentCorrection: the sums' first-order term over
+// surface's slope there (core's detail::MomentCorrectionSums: the sums' first-order term over
 // the texel's pieces, grad D = (slope.x, -1, slope.y)).
 void addMomentCorrection(inout float sums[11], vec3 d0, vec3 d1, vec3 d2, float x, float y, float z, float weight,
                          float depth, float localHeight, vec2 slope) {

@@ -62,14 +62,7 @@ struct WettedSums {
     wettedArea += frac * area;
   }
 
-  /// Adds the part of one texel's sums that its single position leaves out when its pieces lie
-  /// on several triangles (SurfaceTextures::momentCorrection, here in the world frame:
-  /// dm = R dM R^T, m^3), times `weight` (correctionWeight, below): MomentCorrectionSums' law
-  /// for one texel, in the frame of the sums (R = I).
-  inline void addMomentCorrection(double x, double y, double z, const Eigen::Matrix3d& dm, double weight,
-                                  double depth, double localHeight, double slopeX, double slopeZ);
-
-  /// addMomentCorrection under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
+  /// MomentCorrectionSums' law (below) for one texel under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
   /// result reads (finishHydrostatics with ForceModel::Archimedes), which need only the column
   /// dm(:, 1) = `column` (m^3): sumDA[0], sumDA[2] and sumDxA are left as they are (a flat
   /// surface's force and torque come from the volume and the centre of buoyancy).
@@ -128,27 +121,27 @@ struct WettedSums {
 ///   Sum (Q/2 - h' D) A_y += (y' - h') r1 . c - h' u . r1
 ///   Sum f A_y, f = 1, x', z', x'^2, x' z', z'^2 += grad f . R c (dm(:, 1) = R c).
 struct alignas(32) MomentCorrectionSums {
-  // Rows of four (the fourth unused) so that the compiler's paired loads and stores of the sums
-  // line up from one texel to the next (mixed widths stall store forwarding).
-  alignas(32) double u[4] = {0, 0, 0, 0};         ///< Sum w u (m^3)
-  alignas(32) double depthMoment[3][4] = {};      ///< Sum w D dM (m^4)
-  alignas(32) double positionU[3][4] = {};        ///< Sum w x' u^T (m^4; rows world, columns body)
-  alignas(32) double c[4] = {0, 0, 0, 0};         ///< Sum w c (m^3)
-  alignas(32) double xc[4] = {0, 0, 0, 0};        ///< Sum w x' c (m^4)
-  alignas(32) double zc[4] = {0, 0, 0, 0};        ///< Sum w z' c (m^4)
-  double yb = 0.0;                                ///< Sum w ((y' - h') r1 . c - h' u . r1) (m^4)
+  // Rows of four (the fourth unused) on 32 bytes, so that the compiler's paired loads and stores
+  // of the sums line up from one texel to the next (mixed widths stall store forwarding).
+  double u[4] = {0, 0, 0, 0};     ///< Sum w u (m^3)
+  double depthMoment[3][4] = {};  ///< Sum w D dM (m^4)
+  double positionU[3][4] = {};    ///< Sum w x' u^T (m^4; rows world, columns body)
+  double c[4] = {0, 0, 0, 0};     ///< Sum w c (m^3)
+  double xc[4] = {0, 0, 0, 0};    ///< Sum w x' c (m^4)
+  double zc[4] = {0, 0, 0, 0};    ///< Sum w z' c (m^4)
+  double yb = 0.0;                ///< Sum w ((y' - h') r1 . c - h' u . r1) (m^4)
 
   /// Adds one texel at x' = (x, y, z) (m, world frame at o) whose body-frame moment is `m`
-  /// (m^3, row-major), with `weight`, `depth` D (m), `localHeight` h' (m) and the surface's slope;
-  /// `xRow`, `yRow`, `zRow` are the rotation's rows.
-  template <class Scalar>
-  [[gnu::always_inline]] inline void add(double x, double y, double z, const Scalar (&m)[3][3], double weight,
+  /// (m^3, TextureHydrostatics::MomentCorrection::moment), with `weight`, `depth` D (m),
+  /// `localHeight` h' (m) and the surface's slope, under the body's rotation R.
+  [[gnu::always_inline]] inline void add(double x, double y, double z, const float (&m)[3][3], double weight,
                                          double depth, double localHeight, double slopeX, double slopeZ,
-                                         const double (&xRow)[3], const double (&yRow)[3], const double (&zRow)[3]) {
+                                         const Eigen::Matrix3d& rotation) {
+    const Eigen::Matrix3d& r = rotation;
     double g[3], uu[3], cc[3];
-    for (int i = 0; i < 3; ++i) g[i] = slopeX * xRow[i] - yRow[i] + slopeZ * zRow[i];
+    for (int i = 0; i < 3; ++i) g[i] = slopeX * r(0, i) - r(1, i) + slopeZ * r(2, i);  // R^T (slopeX, -1, slopeZ)
     for (int j = 0; j < 3; ++j) uu[j] = g[0] * double(m[0][j]) + g[1] * double(m[1][j]) + g[2] * double(m[2][j]);
-    for (int i = 0; i < 3; ++i) cc[i] = double(m[i][0]) * yRow[0] + double(m[i][1]) * yRow[1] + double(m[i][2]) * yRow[2];
+    for (int i = 0; i < 3; ++i) cc[i] = double(m[i][0]) * r(1, 0) + double(m[i][1]) * r(1, 1) + double(m[i][2]) * r(1, 2);
     const double w = weight, wd = weight * depth;
     const double position[3] = {w * x, w * y, w * z};
     for (int i = 0; i < 3; ++i) {
@@ -161,8 +154,8 @@ struct alignas(32) MomentCorrectionSums {
         positionU[i][j] += position[i] * uu[j];
       }
     }
-    const double rc = yRow[0] * cc[0] + yRow[1] * cc[1] + yRow[2] * cc[2];
-    const double ru = yRow[0] * uu[0] + yRow[1] * uu[1] + yRow[2] * uu[2];
+    const double rc = r(1, 0) * cc[0] + r(1, 1) * cc[1] + r(1, 2) * cc[2];
+    const double ru = r(1, 0) * uu[0] + r(1, 1) * uu[1] + r(1, 2) * uu[2];
     yb += w * ((y - localHeight) * rc - localHeight * ru);
   }
 
@@ -210,16 +203,6 @@ struct alignas(32) MomentCorrectionSums {
   }
 };
 
-inline void WettedSums::addMomentCorrection(double x, double y, double z, const Eigen::Matrix3d& dm, double weight,
-                                            double depth, double localHeight, double slopeX, double slopeZ) {
-  double m[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m[i][j] = dm(i, j);
-  static constexpr double kX[3] = {1, 0, 0}, kY[3] = {0, 1, 0}, kZ[3] = {0, 0, 1};
-  MomentCorrectionSums one;
-  one.add(x, y, z, m, weight, depth, localHeight, slopeX, slopeZ, kX, kY, kZ);
-  one.addTo(*this, Eigen::Matrix3d::Identity());
-}
 
 /// Submerged fractions of a planar patch p + s eU + t eV (s, t uniform on [-1/2, 1/2]) whose
 /// height above its centre is X = s eU.y + t eV.y, under a surface `depth` d above the centre.
@@ -272,7 +255,7 @@ struct WaterlineFractions {
   return {frac, mean, meanSq - frac * variance};
 }
 
-/// The weight of a texel's moment correction (WettedSums::addMomentCorrection): the submerged
+/// The weight of a texel's moment correction (MomentCorrectionSums): the submerged
 /// share of the vertical segment y' +- s about its centre, `depth` d above it, s the larger of the
 /// patch's half span and the reach of its pieces' centroids: 1 when every piece is under, 0 when
 /// every one is over, linear between (exact for a lid and a bottom stacked in one texel of a

@@ -85,20 +85,27 @@ GerstnerWaves::GerstnerWaves(std::vector<GerstnerWave> waves, double meanLevel, 
   // eta0(x0) - g0 . s is off by at most S2 s^2 / 2 (S2 = sum A k^2), and the error e moves it by
   // at most S1 |e| (S1 = sum A k): in all (3 S1 C + S2 / 2) s^2, held to S1 kHorizontalTolerance,
   // the bound of a search that evaluates once more (the class comment). |s| <= |dx| + |dz|.
-  double s1 = 0.0, s2 = 0.0, k1 = 0.0, k2 = 0.0;
-  for (const Component& c : components_) {
-    const double a = std::abs(c.amplitude), k = c.waveNumber;
-    s1 += a * k;
-    s2 += a * k * k;
-    k1 += c.steepness * a * k;
-    k2 += c.steepness * a * k * k;
-  }
-  const double sigma = 1.0 - k1;
+  const PowerSums sums = powerSums();
+  const double s1 = sums.s[1], s2 = sums.s[2], k2 = sums.k[2];
+  const double sigma = 1.0 - sums.k[1];
   if (sigma > 0.0 && s1 > 0.0 && std::isfinite(s1 + s2 + k2)) {
     const double c = k2 / (2.0 * sigma);
     const double step = std::sqrt(s1 * kHorizontalTolerance / (3.0 * s1 * c + 0.5 * s2));
     extrapolationStep_ = c > 0.0 ? std::min(step, 0.25 / c) : step;
   }
+}
+
+GerstnerWaves::PowerSums GerstnerWaves::powerSums() const {
+  PowerSums sums;
+  for (const Component& c : components_) {
+    double power = 1.0;
+    for (int n = 1; n <= 4; ++n) {
+      power *= c.waveNumber;
+      sums.s[n] += std::abs(c.amplitude) * power;
+      sums.k[n] += c.steepness * std::abs(c.amplitude) * power;
+    }
+  }
+  return sums;
 }
 
 double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
@@ -230,15 +237,9 @@ std::optional<SurfaceSmoothness> GerstnerWaves::smoothness(double /*time*/) cons
   // K_n = sum Q A k^n, S_n = sum A k^n and sigma = 1 - K_1 (J's smallest eigenvalue at worst),
   // differentiating J y' = e up to three times bounds |y^(n)| by a_n below; the chain rule on
   // eta0(y(s)) (|D^n eta0| <= S_n) then bounds the height's third and fourth derivatives.
-  double s[5] = {0, 0, 0, 0, 0}, k[5] = {0, 0, 0, 0, 0};
-  for (const Component& c : components_) {
-    double power = 1.0;
-    for (int n = 1; n <= 4; ++n) {
-      power *= c.waveNumber;
-      s[n] += std::abs(c.amplitude) * power;
-      k[n] += c.steepness * std::abs(c.amplitude) * power;
-    }
-  }
+  const PowerSums sums = powerSums();
+  const double(&s)[5] = sums.s;
+  const double(&k)[5] = sums.k;
   const double sigma = 1.0 - k[1];
   if (!(sigma > 0.0)) return std::nullopt;
   const double a1 = 1.0 / sigma;

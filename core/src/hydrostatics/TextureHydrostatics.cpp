@@ -5,7 +5,7 @@
 /// it under the surface is weighted exactly for that patch (HydrostaticSums.hpp,
 /// waterlineFractions). Tiles wholly under a flat surface add precomputed moments in O(1). A texel
 /// of pieces on several triangles adds its moment correction (SurfaceTextures::momentCorrection;
-/// WettedSums::addMomentCorrection) weighted by the submerged share of its pieces' span
+/// MomentCorrectionSums) weighted by the submerged share of its pieces' span
 /// (correctionWeight): with it the volume and
 /// force of a wholly submerged body are the pieces' exact sums at every pose, with no per-pose
 /// factor; the first moments (centre of buoyancy, torque) stay second order in the texel size.
@@ -88,7 +88,7 @@ inline Eigen::Matrix3d worldMoment(const MomentCorrection& c, const Eigen::Matri
 /// Its moment correction (null: none), with the surface's slope (slopeX, slopeZ) above it, goes
 /// into `corrections` (body frame; addWaveCorrections adds them).
 inline void addWaveTexel(detail::WettedSums& sums, detail::MomentCorrectionSums& corrections, const Texel& texel,
-                         const MomentCorrection* correction, const double (&rows)[3][3], const PosedTexel& w, double a,
+                         const MomentCorrection* correction, const Eigen::Matrix3d& r, const PosedTexel& w, double a,
                          double b, double depth, double localHeight, double slopeX, double slopeZ, double rhoG) {
   const detail::WaterlineFractions f = detail::waterlineFractions(depth, a, b);
   sums.addElement(w.x, w.y, w.z, w.ax, w.ay, w.az, texel.area, f.area, f.depth, f.depthSq, localHeight);
@@ -103,7 +103,7 @@ inline void addWaveTexel(detail::WettedSums& sums, detail::MomentCorrectionSums&
   if (correction)
     corrections.add(w.x, w.y, w.z, correction->moment,
                     detail::correctionWeight(depth, 0.5 * (std::abs(a) + std::abs(b)), correction->reach), depth,
-                    localHeight, slopeX, slopeZ, rows[0], rows[1], rows[2]);
+                    localHeight, slopeX, slopeZ, r);
 }
 
 /// Adds addWaveTexel's moment corrections to `sums`, with their pressure: p = rho g D, so their
@@ -317,7 +317,7 @@ void addChunkMoments(Moments& m, const Texel* texels, std::uint32_t count) {
 }
 
 // Adds a texel's moment correction dM to `m`: sumPA += dM, sumPPA_k(i, j) += p_i dM_jk + dM_ik p_j
-// (WettedSums::addMomentCorrection's terms, in the body frame).
+// (MomentCorrectionSums' terms, in the body frame).
 void addCorrectionMoments(Moments& m, const Texel& t, const MomentCorrection& c) {
   static constexpr int kPairs[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};  // Moments::sumPPA order
   for (int i = 0; i < 3; ++i)
@@ -479,6 +479,7 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
     // A medium: every texel is submerged; pressure from the medium at each texel centre.
     const Eigen::Vector3d origin = t;
     std::uint32_t cursor = 0;
+    detail::MomentCorrectionSums moments;  // the corrections' depth sums, rotated once at the end
     for (std::uint32_t i = 0; i < texels_.size(); ++i) {
       const Texel& texel = texels_[i];
       const PosedTexel w = pose(texel, r, Eigen::Vector3d::Zero());
@@ -489,11 +490,11 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
       Eigen::Vector3d torque = x.cross(force);
       Eigen::Vector3d totalForce = force;
       if (const MomentCorrection* correction = correctionOf(corrections_, cursor, allCorrections, i)) {
-        // The pressure's first-order term over the pieces (WettedSums::addMomentCorrection): a
+        // The pressure's first-order term over the pieces (MomentCorrectionSums' law): a
         // liquid at rest has grad p = -rho(x) g e_y, so Sum g(c_k) A_k gains grad g . dm(:, k)
         // with g = -p (force) and -p x_i (torque).
+        moments.add(w.x, w.y, w.z, correction->moment, 1.0, -w.y, 0.0, 0.0, 0.0, r);
         const Eigen::Matrix3d dm = worldMoment(*correction, r);
-        sums.addMomentCorrection(w.x, w.y, w.z, dm, 1.0, -w.y, 0.0, 0.0, 0.0);
         const double rhoG = surface.densityAt(x + origin) * q.gravity;
         const Eigen::Vector3d gradientTerm = rhoG * dm.row(1).transpose();  // -grad p . dm(:, k)
         totalForce += gradientTerm;
@@ -507,6 +508,7 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
         sums.pressureTorque[k] += torque[k];
       }
     }
+    moments.addTo(sums, r);
     return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, false);
   }
 
@@ -569,7 +571,6 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
   // Tiles and texels wholly above the surface's highest point are dry without asking the
   // surface, which costs far more than the texel (Gerstner: a Newton search per call).
   const double highest = surface.heightRange(q.time).second - origin.y();
-  const double rows[3][3] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
   detail::MomentCorrectionSums corrections;
   for (const Tile& tile : tiles_) {
     double low, high;
@@ -593,7 +594,7 @@ Expected<HydrostaticsResult> TextureHydrostatics::query(const LiquidSurface& sur
           (jet ? jet->height : surface.surfaceHeight(w.x + origin.x(), w.z + origin.z(), q.time)) - origin.y();
       const double depth = localHeight - w.y;
       if (!(depth > -span)) continue;  // dry (or a NaN height)
-      addWaveTexel(sums, corrections, texel, correction, rows, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
+      addWaveTexel(sums, corrections, texel, correction, r, w, a, b, depth, localHeight, jet ? jet->slopeX : 0.0,
                    jet ? jet->slopeZ : 0.0, rhoG);
     }
   }

@@ -130,7 +130,6 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   Moments under;  // wholly submerged tiles: the flat part of their sums
   WavePart wave;  // and the wave part
   const Eigen::Vector3d xRow = r.row(0).transpose(), yRow = r.row(1).transpose(), zRow = r.row(2).transpose();
-  const double rows[3][3] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
   // The corrected texels' moment corrections, in the body frame (rotated once, at the end).
   detail::MomentCorrectionSums corrections;
 
@@ -227,7 +226,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       if (y - span >= modelHighest) continue;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;
-      // A corrected texel needs the slope too (WettedSums::addMomentCorrection): the model's, or
+      // A corrected texel needs the slope too (MomentCorrectionSums): the model's, or
       // the surface's jet where it has one.
       double slopeX = 0.0, slopeZ = 0.0;
       double height;
@@ -249,7 +248,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
                        texel.area, f.area, f.depth, f.depthSq, height);
       if (moment)
         localCorrections.add(x, y, z, moment->moment, detail::correctionWeight(height - y, halfSpan, moment->reach),
-                             height - y, height, slopeX, slopeZ, rows[0], rows[1], rows[2]);
+                             height - y, height, slopeX, slopeZ, r);
     }
     sums.add(local);
     corrections.add(localCorrections);

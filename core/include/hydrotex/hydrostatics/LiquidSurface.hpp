@@ -212,6 +212,13 @@ class GerstnerWaves final : public LiquidSurface {
   RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
                       bool turnPhases = false, bool extrapolate = false) const;
 
+  // S_n = sum |A| k^n and K_n = sum Q |A| k^n for n = 1..4 (index 0 unused): the bounds of the
+  // height's and the displacement's derivatives (smoothness(), the Newton search's step bound).
+  struct PowerSums {
+    double s[5] = {0, 0, 0, 0, 0}, k[5] = {0, 0, 0, 0, 0};
+  };
+  PowerSums powerSums() const;
+
   std::vector<GerstnerWave> waves_;
   std::vector<Component> components_;
   double meanLevel_;

@@ -112,7 +112,7 @@ class TextureHydrostatics {
   /// Moments of a set of texels in the body frame, in double, sufficient to evaluate every
   /// hydrostatic sum of wholly submerged texels at any pose in O(1). The texels' moment
   /// corrections dM are included: sumPA gets dM, sumPPA the first-order p_i dM_jk + dM_ik p_j
-  /// (WettedSums::addMomentCorrection), so that a tile's moments equal its texels' sums.
+  /// (detail::MomentCorrectionSums), so that a tile's moments equal its texels' sums.
   struct Moments {
     double sumArea = 0.0;                  ///< sum |A| (m^2)
     double sumA[3] = {0, 0, 0};            ///< sum A_k (m^2)
