@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Zlib
 // The exact path on a prepared mesh (PreparedPolyhedron.hpp) gives the exact path's answer on the
 // plain mesh at random poses, for convex and non-convex meshes: the same bits under waves and in a
-// medium, and to rounding under a flat surface, where it sums clusters of triangles instead of
-// the triangles one by one; and it refuses at preparation what polyhedralHydrostatics refuses
+// medium, and to rounding under a flat surface, where it sums the nodes of a hierarchy of
+// triangles instead of the triangles one by one; and it refuses at preparation what polyhedralHydrostatics refuses
 // per call.
 #include <catch2/catch.hpp>
 
@@ -34,7 +34,7 @@ void requireSameBits(const HydrostaticsResult& a, const HydrostaticsResult& b) {
   CHECK(a.fluidDensity == b.fluidDensity);
 }
 
-/// The same sums in another order (whole clusters, then triangles): equal to rounding. Each
+/// The same sums in another order (whole nodes, then triangles): equal to rounding. Each
 /// quantity within 1e-12 of its own size plus its scale for a body of size `length` (m): the
 /// terms summed are at most that large, and 1e-12 is ~5000 ulps, far above the ~log2(n) ulps an
 /// order change moves a sum of n terms by, and far below any error of a law.
@@ -69,12 +69,14 @@ TEST_CASE("prepared polyhedron: the same answer as the plain exact path", "[hydr
     auto mesh = std::make_shared<const Mesh>(source);
     const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(mesh);
     REQUIRE(prepared.ok());
-    // Its constants (13 doubles), its triangles' indices in the clusters' order and the clusters.
+    // Its constants (13 doubles), its triangles' indices in the leaves' order and the nodes.
     CHECK(prepared->memoryBytes() >= mesh->triangles.size() * (13 * sizeof(double) + 3 * sizeof(int)));
-    // Halved at medians down to at most 16 triangles a cluster: more than 8 each, save a lone one.
+    // Halved at medians down to at most 8 triangles a leaf (at least 4 each, save a lone one):
+    // L leaves, ceil(n / 8) <= L <= n / 4, in a binary tree of 2 L - 1 nodes.
     const std::size_t triangles = mesh->triangles.size();
-    CHECK(prepared->clusterCount() >= (triangles + 15) / 16);
-    CHECK(prepared->clusterCount() <= std::max<std::size_t>(1, triangles / 8));
+    CHECK(prepared->nodeCount() % 2 == 1);
+    CHECK(prepared->nodeCount() >= 2 * ((triangles + 7) / 8) - 1);
+    CHECK(prepared->nodeCount() <= std::max<std::size_t>(1, triangles / 2 - 1));
     Eigen::Vector3d lower = mesh->positions.front(), upper = lower;
     for (const Eigen::Vector3d& p : mesh->positions) {
       lower = lower.cwiseMin(p);

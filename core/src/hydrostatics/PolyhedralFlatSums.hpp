@@ -32,19 +32,9 @@ struct TriangleConstants {
 };
 static_assert(sizeof(TriangleConstants) == 13 * sizeof(double));
 
-/// The constants of triangle (a, b, c). Inline (out of line it cost the exact path 10 %: the
-/// 162-vertex hull 6.3 -> 6.9 us plain, 4.8 -> 5.4 us prepared, same machine and load): the
-/// prepared and the plain path get the same bits as long as the build does not contract their
-/// multiply-adds differently (no -march with FMA here; test_prepared_polyhedron checks the bits).
-inline TriangleConstants triangleConstants(const double a[3], const double b[3], const double c[3]) {
-  TriangleConstants k;
-  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  k.areaVector[0] = 0.5 * (u[1] * v[2] - u[2] * v[1]);
-  k.areaVector[1] = 0.5 * (u[2] * v[0] - u[0] * v[2]);
-  k.areaVector[2] = 0.5 * (u[0] * v[1] - u[1] * v[0]);
-  k.area = std::sqrt(k.areaVector[0] * k.areaVector[0] + k.areaVector[1] * k.areaVector[1] +
-                     k.areaVector[2] * k.areaVector[2]);
+/// The centroid and second moments per area of triangle (a, b, c) into `k` (its area fields are
+/// the caller's).
+inline void addTriangleShape(TriangleConstants& k, const double a[3], const double b[3], const double c[3]) {
   const double third = 1.0 / 3.0;
   double m[3][3];  // edge midpoints
   for (int i = 0; i < 3; ++i) {
@@ -58,34 +48,73 @@ inline TriangleConstants triangleConstants(const double a[3], const double b[3],
     const int i = kPair[pair][0], j = kPair[pair][1];
     k.secondMoments[pair] = (m[0][i] * m[0][j] + m[1][i] * m[1][j] + m[2][i] * m[2][j]) * third;
   }
+}
+
+/// The constants of triangle (a, b, c). Inline (out of line it cost the exact path 10 %: the
+/// 162-vertex hull 6.3 -> 6.9 us plain, 4.8 -> 5.4 us prepared, same machine and load): the
+/// prepared and the plain path get the same bits as long as the build does not contract their
+/// multiply-adds differently (no -march with FMA here; test_prepared_polyhedron checks the bits).
+inline TriangleConstants triangleConstants(const double a[3], const double b[3], const double c[3]) {
+  TriangleConstants k;
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  k.areaVector[0] = 0.5 * (u[1] * v[2] - u[2] * v[1]);
+  k.areaVector[1] = 0.5 * (u[2] * v[0] - u[0] * v[2]);
+  k.areaVector[2] = 0.5 * (u[0] * v[1] - u[1] * v[0]);
+  k.area = std::sqrt(k.areaVector[0] * k.areaVector[0] + k.areaVector[1] * k.areaVector[1] +
+                     k.areaVector[2] * k.areaVector[2]);
+  addTriangleShape(k, a, b, c);
   return k;
 }
 
-/// Nearby triangles of a prepared mesh (PreparedPolyhedron) and their constants summed: the sums
-/// are linear in the up row r1, so a cluster wholly under a flat surface adds its 31 numbers
-/// contracted with r1 (O(1), where its triangles one by one take 13 multiply-adds each and a
-/// classification), and one wholly above it is skipped, as the texture path's tiles are.
-struct TriangleCluster {
-  double center[3];            ///< m, body frame
-  double radius;               ///< m: every corner of its triangles lies within it of `center`
+/// The constants of the corner a, a + s (b - a), a + t (c - a) of triangle (a, b, c) whose
+/// constants are `whole`, times `sign` (+1 or -1): the corner lies in the triangle's plane with
+/// the same orientation, so its area vector and area are s t times the whole's (no cross product
+/// or square root; s, t in [0, 1]).
+inline TriangleConstants cornerConstants(const TriangleConstants& whole, const double a[3], const double b[3],
+                                         const double c[3], double s, double t, double sign) {
+  TriangleConstants k;
+  const double scale = sign * s * t;
+  for (int i = 0; i < 3; ++i) k.areaVector[i] = scale * whole.areaVector[i];
+  k.area = scale * whole.area;
+  double q[3], r[3];
+  for (int i = 0; i < 3; ++i) {
+    q[i] = a[i] + (b[i] - a[i]) * s;
+    r[i] = a[i] + (c[i] - a[i]) * t;
+  }
+  addTriangleShape(k, a, q, r);
+  return k;
+}
+
+/// A node of a prepared mesh's bounding-volume hierarchy (PreparedPolyhedron): a box around nearby
+/// triangles and their constants summed. The sums are linear in the up row r1, so a node wholly
+/// under a flat surface adds its 31 numbers contracted with r1 (O(1), where its triangles one by
+/// one take 13 multiply-adds each and a classification), one wholly above it is skipped, and only
+/// the nodes the water line crosses are opened, down to leaves of a few triangles, as the texture
+/// path's tiles are. Nodes are stored depth first: a node's first child follows it, and `next` is
+/// the node after its subtree (a leaf's is its own index + 1), so the walk needs no stack.
+struct TriangleNode {
+  double center[3];            ///< m, body frame: the centre of its triangles' corners' bounds
+  double halfExtent[3];        ///< m: every corner lies within these of `center` on each axis
   std::uint32_t begin, end;    ///< its triangles [begin, end) in the prepared order
+  std::uint32_t next;          ///< the node after its subtree
   double area;                 ///< Sum |A| (m^2)
   double areaVector[3];        ///< Sum A_k (m^2)
   double firstMoments[3][3];   ///< Sum centroid_i A_k (m^3)
   double secondMoments[6][3];  ///< Sum secondMoments_pair A_k (m^4)
 };
 
-/// A mesh's triangles laid out in clusters (PreparedPolyhedron::prepare): the index triples and
-/// constants in the clusters' order, and the clusters covering them once.
+/// A mesh's triangles laid out for the hierarchy (PreparedPolyhedron::prepare): the index triples
+/// and constants in the leaves' order, and the nodes, depth first (the root first).
 struct PreparedTriangles {
   std::vector<Eigen::Vector3i> triangles;
   std::vector<TriangleConstants> constants;
-  std::vector<TriangleCluster> clusters;
+  std::vector<TriangleNode> nodes;
 };
 
 /// The exact hydrostatics of a closed mesh (body frame) under a flat surface at `level` (m) of
 /// `density` (kg/m^3), the query already validated and the mesh's indices known to be in range.
-/// `prepared`: the mesh's triangles in clusters (their constants made once), or null to visit
+/// `prepared`: the mesh's triangles in a hierarchy (their constants made once), or null to visit
 /// the mesh's triangles one by one and compute the constants of those that need them. The two
 /// add the same terms in another order: they agree to rounding (test_prepared_polyhedron).
 /// Error: a non-finite result (a vertex that is NaN or infinite).

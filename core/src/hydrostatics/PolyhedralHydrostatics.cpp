@@ -84,8 +84,8 @@ struct UpwardMoments {
     for (int pair = 0; pair < 6; ++pair) sumPPAUp[pair] += k.secondMoments[pair] * aUp;
   }
 
-  /// Adds a wholly wet cluster of triangles: its summed constants contracted with `up`.
-  inline void add(const double up[3], const detail::TriangleCluster& c) {
+  /// Adds a wholly wet node of triangles: its summed constants contracted with `up`.
+  inline void add(const double up[3], const detail::TriangleNode& c) {
     sumArea += c.area;
     sumAUp += up[0] * c.areaVector[0] + up[1] * c.areaVector[1] + up[2] * c.areaVector[2];
     for (int i = 0; i < 3; ++i)
@@ -95,27 +95,25 @@ struct UpwardMoments {
           up[0] * c.secondMoments[pair][0] + up[1] * c.secondMoments[pair][1] + up[2] * c.secondMoments[pair][2];
   }
 
-  /// Adds the part of the triangle with corners p[0..2] (counter-clockwise from outside) where the
-  /// depth, linear over it and given at the corners, is positive: the triangle or quadrilateral
-  /// under the water line. `under` corners of the three have depth > 0 (1 or 2: it is cut).
-  inline void addCut(const double up[3], const double* p[3], const double depth[3], int under) {
+  /// Adds the part of the triangle with corners p[0..2] (counter-clockwise from outside) and
+  /// constants `whole` where the depth, linear over it and given at the corners, is positive: the
+  /// triangle or quadrilateral under the water line. `under` corners of the three have depth > 0
+  /// (1 or 2: it is cut). Only the odd corner's triangle is formed (cornerConstants: no cross
+  /// product, no square root): it is the wetted part (one corner under), or what the dry corner
+  /// takes from the whole (two under).
+  inline void addCut(const double up[3], const double* p[3], const double depth[3], int under,
+                     const detail::TriangleConstants& whole) {
     // Rotate the corners (keeping orientation) so that corner i is the odd one out.
     int i = 0;
     for (int k = 0; k < 3; ++k)
       if ((depth[k] > 0.0) == (under == 1)) i = k;
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     const double tj = depth[i] / (depth[i] - depth[j]), tk = depth[i] / (depth[i] - depth[k]);
-    double qij[3], qik[3];
-    for (int c = 0; c < 3; ++c) {
-      qij[c] = p[i][c] + (p[j][c] - p[i][c]) * tj;
-      qik[c] = p[i][c] + (p[k][c] - p[i][c]) * tk;
-    }
     if (under == 1) {
-      add(up, detail::triangleConstants(p[i], qij, qik));
+      add(up, detail::cornerConstants(whole, p[i], p[j], p[k], tj, tk, 1.0));
     } else {
-      // Corner i is over: the wetted part is the quad qij, p[j], p[k], qik.
-      add(up, detail::triangleConstants(qij, p[j], p[k]));
-      add(up, detail::triangleConstants(qij, p[k], qik));
+      add(up, whole);
+      add(up, detail::cornerConstants(whole, p[i], p[j], p[k], tj, tk, -1.0));
     }
   }
 };
@@ -238,7 +236,7 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
   // The water plane in the body frame: depth(p) = (h - t_y) - r1 . p, once per vertex; a triangle
   // with no corner under it costs three loads and compares, a wholly wet one its constants' 13
   // multiply-adds, and only the cut ones are clipped (as Jolt's and Kerner's buoyancy do). A
-  // prepared mesh's clusters wholly under or over the plane cost O(1) (TriangleCluster).
+  // prepared mesh's nodes wholly under or over the plane cost O(1) (TriangleNode).
   const Eigen::Matrix3d& rotation = query.pose.rotation;
   const Eigen::Vector3d& translation = query.pose.translation;
   const double up[3] = {rotation(1, 0), rotation(1, 1), rotation(1, 2)};
@@ -261,28 +259,45 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
       if (under == 0) continue;
       const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
                             positions[std::size_t(tri[2])].data()};
-      if (under != 3)
-        m.addCut(up, p, depth, under);
-      else if (constants)
-        m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
-      else
-        m.add(up, triangleConstants(p[0], p[1], p[2]));
+      if (constants) {
+        if (under == 3)
+          m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
+        else
+          m.addCut(up, p, depth, under, constants[t]);
+      } else {
+        const TriangleConstants whole = triangleConstants(p[0], p[1], p[2]);
+        if (under == 3)
+          m.add(up, whole);
+        else
+          m.addCut(up, p, depth, under, whole);
+      }
     }
   };
   if (prepared) {
-    // A cluster's corners lie within its radius of its centre, so their depths lie within
-    // |r1| radius of the centre's (|r1| ~ 1: the engine's rotation is orthogonal to ~1e-7; the
-    // margin keeps the classification conservative through that and the depths' rounding): all
-    // under (> 0) or none (<= 0) exactly as the triangles one by one would find.
-    const double reach = std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]) * (1.0 + 1e-12);
-    for (const TriangleCluster& cluster : prepared->clusters) {
-      const double depth = bodyLevel - (up[0] * cluster.center[0] + up[1] * cluster.center[1] + up[2] * cluster.center[2]);
-      const double spread = reach * cluster.radius + 1e-12 * std::abs(bodyLevel);
-      if (depth < -spread) continue;
-      if (depth > spread)
-        m.add(up, cluster);
-      else
-        addTriangles(prepared->triangles.data(), prepared->constants.data(), cluster.begin, cluster.end);
+    // A node's corners lie within its half extents of its centre, so their depths lie within
+    // Sum |r1_i| h_i of the centre's (the margin keeps the classification conservative through
+    // the depths' rounding): all under (> 0) or none (<= 0) exactly as the triangles one by one
+    // would find. Depth first: an opened node's first child is the next node, a closed one's
+    // subtree is skipped to its `next`.
+    const double reach[3] = {std::abs(up[0]) * (1.0 + 1e-12), std::abs(up[1]) * (1.0 + 1e-12),
+                             std::abs(up[2]) * (1.0 + 1e-12)};
+    const std::vector<TriangleNode>& nodes = prepared->nodes;
+    for (std::size_t i = 0; i < nodes.size();) {
+      const TriangleNode& node = nodes[i];
+      const double height = up[0] * node.center[0] + up[1] * node.center[1] + up[2] * node.center[2];
+      const double depth = bodyLevel - height;
+      const double spread = reach[0] * node.halfExtent[0] + reach[1] * node.halfExtent[1] +
+                            reach[2] * node.halfExtent[2] + 1e-12 * (std::abs(bodyLevel) + std::abs(height));
+      if (depth < -spread) {
+        i = node.next;
+      } else if (depth > spread) {
+        m.add(up, node);
+        i = node.next;
+      } else {
+        if (node.next == i + 1)  // a leaf the water line may cross
+          addTriangles(prepared->triangles.data(), prepared->constants.data(), node.begin, node.end);
+        ++i;
+      }
     }
   } else {
     addTriangles(mesh.triangles.data(), nullptr, 0, mesh.triangles.size());

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: Zlib
 /// @file PreparedPolyhedron.cpp
 /// Preparing a closed mesh for the exact path: the per-call checks made once, the triangles'
-/// constants kept (PolyhedralFlatSums.hpp) and the triangles grouped into clusters of nearby ones
-/// with their constants summed, which the flat-surface sums then read instead of visiting every
+/// constants kept (PolyhedralFlatSums.hpp) and a bounding-volume hierarchy over them with their
+/// constants summed per node, which the flat-surface sums walk instead of visiting every
 /// triangle.
 
 #include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -18,35 +20,95 @@ namespace hydrotex {
 
 namespace {
 
-/// Triangles per cluster at most: the cost of a cluster the water line crosses against the
-/// number of clusters classified (bench_peers, Wigley hull of 4,222 triangles: see the commit).
-constexpr std::size_t kClusterTriangles = 16;
+/// Triangles per leaf at most: the cost of a leaf the water line crosses (its triangles one by
+/// one) against the nodes opened above it (bench_peers, Wigley hull of 4,222 triangles: see the
+/// commit).
+constexpr std::size_t kLeafTriangles = 8;
 
-/// Splits `order` [begin, end) at the median of the triangles' centroids along the longest side of
-/// their bounds until at most kClusterTriangles remain, appending one cluster per piece (the
-/// pieces in order, so that clusters cover the order once).
-void splitIntoClusters(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                       const std::vector<detail::TriangleConstants>& constants, std::vector<std::size_t>& cuts) {
-  if (end - begin <= kClusterTriangles) {
-    cuts.push_back(end);
-    return;
+/// Adds what the triangle with constants `k` brings to a node's sums.
+void addToNode(detail::TriangleNode& node, const detail::TriangleConstants& k) {
+  node.area += k.area;
+  for (int j = 0; j < 3; ++j) {
+    node.areaVector[j] += k.areaVector[j];
+    for (int i = 0; i < 3; ++i) node.firstMoments[i][j] += k.centroid[i] * k.areaVector[j];
+    for (int pair = 0; pair < 6; ++pair) node.secondMoments[pair][j] += k.secondMoments[pair] * k.areaVector[j];
   }
-  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
-  for (std::size_t i = begin; i < end; ++i) {
-    const Eigen::Vector3d c(constants[order[i]].centroid);
-    lower = lower.cwiseMin(c);
-    upper = upper.cwiseMax(c);
+}
+
+/// Adds a child's sums to its parent's.
+void addToNode(detail::TriangleNode& node, const detail::TriangleNode& child) {
+  node.area += child.area;
+  for (int j = 0; j < 3; ++j) {
+    node.areaVector[j] += child.areaVector[j];
+    for (int i = 0; i < 3; ++i) node.firstMoments[i][j] += child.firstMoments[i][j];
+    for (int pair = 0; pair < 6; ++pair) node.secondMoments[pair][j] += child.secondMoments[pair][j];
   }
-  int axis = 0;
-  (upper - lower).maxCoeff(&axis);
-  const std::size_t middle = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle),
-                   order.begin() + std::ptrdiff_t(end), [&](std::uint32_t a, std::uint32_t b) {
-                     return constants[a].centroid[axis] < constants[b].centroid[axis] ||
-                            (constants[a].centroid[axis] == constants[b].centroid[axis] && a < b);
-                   });
-  splitIntoClusters(order, begin, middle, constants, cuts);
-  splitIntoClusters(order, middle, end, constants, cuts);
+}
+
+/// What building the hierarchy reads: the mesh, its triangles' constants by original index.
+struct HierarchyInput {
+  const Mesh& mesh;
+  const std::vector<detail::TriangleConstants>& constants;
+};
+
+/// Appends the subtree over the triangles order[begin, end) to `nodes` (depth first) and returns
+/// its bounds: a leaf for at most kLeafTriangles, otherwise the triangles halved at the median of
+/// their centroids along the longest side of the centroids' bounds (nth_element reorders `order`
+/// in place, so that each node's triangles end up contiguous) and a node over both halves.
+void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                  std::vector<detail::TriangleNode>& nodes, Eigen::Vector3d& lower, Eigen::Vector3d& upper) {
+  const std::size_t index = nodes.size();
+  nodes.emplace_back();  // value-initialized: the sums start at zero
+  lower = Eigen::Vector3d::Constant(INFINITY);
+  upper = -lower;
+  if (end - begin <= kLeafTriangles) {
+    for (std::size_t t = begin; t < end; ++t) {
+      const Eigen::Vector3i& tri = input.mesh.triangles[order[t]];
+      for (int c = 0; c < 3; ++c) {
+        lower = lower.cwiseMin(input.mesh.positions[std::size_t(tri[c])]);
+        upper = upper.cwiseMax(input.mesh.positions[std::size_t(tri[c])]);
+      }
+      addToNode(nodes[index], input.constants[order[t]]);
+    }
+  } else {
+    Eigen::Vector3d centroidLower = Eigen::Vector3d::Constant(INFINITY), centroidUpper = -centroidLower;
+    for (std::size_t t = begin; t < end; ++t) {
+      const Eigen::Vector3d c(input.constants[order[t]].centroid);
+      centroidLower = centroidLower.cwiseMin(c);
+      centroidUpper = centroidUpper.cwiseMax(c);
+    }
+    int axis = 0;
+    (centroidUpper - centroidLower).maxCoeff(&axis);
+    const std::size_t middle = begin + (end - begin) / 2;
+    const auto& constants = input.constants;
+    std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle),
+                     order.begin() + std::ptrdiff_t(end), [&](std::uint32_t a, std::uint32_t b) {
+                       return constants[a].centroid[axis] < constants[b].centroid[axis] ||
+                              (constants[a].centroid[axis] == constants[b].centroid[axis] && a < b);
+                     });
+    Eigen::Vector3d childLower, childUpper;
+    const std::size_t first = nodes.size();
+    buildSubtree(input, order, begin, middle, nodes, childLower, childUpper);
+    lower = childLower;
+    upper = childUpper;
+    const std::size_t second = nodes.size();
+    buildSubtree(input, order, middle, end, nodes, childLower, childUpper);
+    lower = lower.cwiseMin(childLower);
+    upper = upper.cwiseMax(childUpper);
+    addToNode(nodes[index], nodes[first]);
+    addToNode(nodes[index], nodes[second]);
+  }
+  detail::TriangleNode& node = nodes[index];
+  for (int i = 0; i < 3; ++i) {
+    node.center[i] = 0.5 * (lower[i] + upper[i]);
+    // Widened by an ulp of the largest coordinate (the centre's and the half's rounding), so that
+    // every corner lies within it.
+    node.halfExtent[i] = 0.5 * (upper[i] - lower[i]) +
+                         std::numeric_limits<double>::epsilon() * std::max(std::abs(lower[i]), std::abs(upper[i]));
+  }
+  node.begin = std::uint32_t(begin);
+  node.end = std::uint32_t(end);
+  node.next = std::uint32_t(nodes.size());
 }
 
 }  // namespace
@@ -62,6 +124,8 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
   for (std::size_t v = 0; v < mesh->positions.size(); ++v)
     if (!mesh->positions[v].allFinite()) return Error{name + ": vertex " + std::to_string(v) + " is not finite"};
   if (Status closed = checkClosedMesh(*mesh); !closed) return closed.error();
+  if (mesh->triangles.size() >= std::numeric_limits<std::uint32_t>::max())
+    return Error{name + ": more triangles than the exact path indexes (2^32 - 1)"};
 
   const std::size_t triangleCount = mesh->triangles.size();
   std::vector<detail::TriangleConstants> constants(triangleCount);
@@ -73,45 +137,15 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
   }
   std::vector<std::uint32_t> order(triangleCount);
   std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::size_t> cuts;
-  splitIntoClusters(order, 0, triangleCount, constants, cuts);
-
   auto layout = std::make_shared<detail::PreparedTriangles>();
+  Eigen::Vector3d lower, upper;
+  buildSubtree(HierarchyInput{*mesh, constants}, order, 0, triangleCount, layout->nodes, lower, upper);
+  layout->nodes.shrink_to_fit();
   layout->triangles.reserve(triangleCount);
   layout->constants.reserve(triangleCount);
   for (std::uint32_t t : order) {
     layout->triangles.push_back(mesh->triangles[t]);
     layout->constants.push_back(constants[t]);
-  }
-  std::size_t begin = 0;
-  for (std::size_t end : cuts) {
-    detail::TriangleCluster cluster{};
-    cluster.begin = std::uint32_t(begin);
-    cluster.end = std::uint32_t(end);
-    // The sphere: the centre of the corners' bounds, the farthest corner's distance.
-    Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
-    for (std::size_t t = begin; t < end; ++t)
-      for (int c = 0; c < 3; ++c) {
-        lower = lower.cwiseMin(mesh->positions[std::size_t(layout->triangles[t][c])]);
-        upper = upper.cwiseMax(mesh->positions[std::size_t(layout->triangles[t][c])]);
-      }
-    const Eigen::Vector3d center = 0.5 * (lower + upper);
-    double radius = 0.0;
-    for (std::size_t t = begin; t < end; ++t) {
-      for (int c = 0; c < 3; ++c)
-        radius = std::max(radius, (mesh->positions[std::size_t(layout->triangles[t][c])] - center).norm());
-      const detail::TriangleConstants& k = layout->constants[t];
-      cluster.area += k.area;
-      for (int j = 0; j < 3; ++j) {
-        cluster.areaVector[j] += k.areaVector[j];
-        for (int i = 0; i < 3; ++i) cluster.firstMoments[i][j] += k.centroid[i] * k.areaVector[j];
-        for (int pair = 0; pair < 6; ++pair) cluster.secondMoments[pair][j] += k.secondMoments[pair] * k.areaVector[j];
-      }
-    }
-    for (int i = 0; i < 3; ++i) cluster.center[i] = center[i];
-    cluster.radius = radius;
-    layout->clusters.push_back(cluster);
-    begin = end;
   }
   PreparedPolyhedron body;
   body.triangles_ = std::move(layout);
@@ -119,13 +153,13 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
   return body;
 }
 
-std::size_t PreparedPolyhedron::clusterCount() const { return triangles_ ? triangles_->clusters.size() : 0; }
+std::size_t PreparedPolyhedron::nodeCount() const { return triangles_ ? triangles_->nodes.size() : 0; }
 
 std::size_t PreparedPolyhedron::memoryBytes() const {
   if (!triangles_) return 0;
   return triangles_->triangles.capacity() * sizeof(Eigen::Vector3i) +
          triangles_->constants.capacity() * sizeof(detail::TriangleConstants) +
-         triangles_->clusters.capacity() * sizeof(detail::TriangleCluster);
+         triangles_->nodes.capacity() * sizeof(detail::TriangleNode);
 }
 
 Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,

@@ -4,11 +4,12 @@
 /// A closed mesh prepared once for the exact path's calls every step (issue 19: a simple body
 /// costs no more than in a game engine's buoyancy): the checks that polyhedralHydrostatics makes
 /// per call (closed, finite, indices in range) are made once, and each triangle's pose-independent
-/// constants (area vector, area, centroid, second moments: 104 bytes) are kept, and the triangles
-/// are grouped into clusters of nearby ones with their constants summed, so that under a flat
-/// surface a step costs per vertex one depth and per cluster a classification: a cluster wholly
-/// under the water adds its sums (O(1)), one wholly above is skipped, and only the clusters the
-/// water line crosses go triangle by triangle, where the cut triangles are clipped. Results agree
+/// constants (area vector, area, centroid, second moments: 104 bytes) are kept, and a bounding-
+/// volume hierarchy is built over the triangles with their constants summed per node, so that under
+/// a flat surface a step costs per vertex one depth and per node visited a classification: a node
+/// wholly under the water adds its sums (O(1)), one wholly above is skipped, and only the nodes the
+/// water line crosses are opened, down to leaves of at most 8 triangles, which go triangle by
+/// triangle, where the cut triangles are clipped. Results agree
 /// with polyhedralHydrostaticsUnchecked on the same mesh to rounding (the same terms summed in
 /// another order); under waves, height grids and media they are its bits.
 
@@ -26,7 +27,7 @@ namespace detail {
 struct PreparedTriangles;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
 }
 
-/// A closed mesh, its per-triangle constants and their clusters (read-only once made; share it
+/// A closed mesh, its per-triangle constants and their hierarchy (read-only once made; share it
 /// between bodies of one mesh and between threads).
 class PreparedPolyhedron {
  public:
@@ -35,9 +36,10 @@ class PreparedPolyhedron {
   static Expected<PreparedPolyhedron> prepare(std::shared_ptr<const Mesh> mesh);
   /// The mesh it was made from.
   const Mesh& mesh() const { return *mesh_; }
-  /// Clusters of nearby triangles the flat-surface sums classify (at most 16 triangles each).
-  std::size_t clusterCount() const;
-  /// Heap held by the constants, the clusters and the triangles in their order (bytes; the mesh
+  /// Nodes of the hierarchy the flat-surface sums walk (leaves of at most 8 triangles, halved at
+  /// medians: 2 L - 1 nodes for L leaves).
+  std::size_t nodeCount() const;
+  /// Heap held by the constants, the nodes and the triangles in their order (bytes; the mesh
   /// is shared, not counted).
   std::size_t memoryBytes() const;
 
@@ -45,7 +47,7 @@ class PreparedPolyhedron {
   friend Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query);
   std::shared_ptr<const Mesh> mesh_;
-  std::shared_ptr<const detail::PreparedTriangles> triangles_;  // every triangle once, in clusters
+  std::shared_ptr<const detail::PreparedTriangles> triangles_;  // every triangle once, in leaves' order
 };
 
 /// Exact hydrostatics of a prepared mesh (as polyhedralHydrostatics, PolyhedralHydrostatics.hpp,
