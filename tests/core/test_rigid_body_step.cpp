@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -151,6 +153,49 @@ TEST_CASE("a full stiffness: stable modes implicit, a slow capsizing mode explic
     for (int j = 0; j < 6; ++j) coupling(i, j) = std::sin(1.0 + i + 7.0 * j);
   input.dragDamping = 40.0 * coupling * coupling.transpose();
   check(input);
+}
+
+TEST_CASE("the update solves a needle's ill-conditioned system to its rounding", "[step]") {
+  // A 1 m x 1 mm x 1 mm steel needle turned off the axes: its inertia spans eight orders of
+  // magnitude (test_hard_cases' needle; a Cholesky without pivoting spun it up). Without stiffness
+  // the update solves (M + C dt / 2) u' = M u + dt (m g + F) + C dt u / 2, rebuilt here. A
+  // backward-stable solve leaves a residual of a few ulps of |A| |u'|; 1e-13 of it allows
+  // ~500 ulps. Against a full-pivot LU the velocities agree to the condition number times that.
+  RigidBodyMotion motion;
+  motion.mass = 7.85e-3;
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  motion.inertiaWorld = turn * Eigen::Vector3d(1.3e-9, 6.5e-4, 6.5e-4).asDiagonal() * turn.transpose();
+  motion.linearVelocity = {0.02, -0.3, 0.01};
+  motion.angularVelocity = {3.0, -40.0, 7.0};
+  const double dt = 1.0 / 60.0;
+  ImplicitUpdateInput input;
+  input.gravity = {0, -9.81, 0};
+  input.force = {1e-4, 0.07, -2e-4};
+  input.torque = {1e-6, -3e-7, 2e-6};
+  Eigen::Matrix<double, 6, 6> coupling;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) coupling(i, j) = std::sin(2.0 + 3.0 * i + j) * (i < 3 ? 1.0 : 1e-3);
+  input.dragDamping = 1e-3 * coupling * coupling.transpose();
+  const Expected<RigidBodyVelocities> next = implicitVelocityUpdate(motion, input, dt);
+  REQUIRE(next);
+  Eigen::Matrix<double, 6, 1> got, u, rhs;
+  got << next->linear, next->angular;
+  u << motion.linearVelocity, motion.angularVelocity;
+  Eigen::Matrix<double, 6, 6> system = Eigen::Matrix<double, 6, 6>::Zero();
+  system.topLeftCorner<3, 3>() = motion.mass * Eigen::Matrix3d::Identity();
+  system.bottomRightCorner<3, 3>() = motion.inertiaWorld;
+  rhs << motion.mass * motion.linearVelocity + dt * (motion.mass * input.gravity + input.force),
+      motion.inertiaWorld * motion.angularVelocity + dt * input.torque;
+  const Eigen::Matrix<double, 6, 6> c = 0.5 * dt * (input.dragDamping + input.dragDamping.transpose());
+  system += c;
+  rhs += c * u;
+  const double scale = system.cwiseAbs().maxCoeff() * got.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
+  CHECK((system * got - rhs).cwiseAbs().maxCoeff() <= 1e-13 * scale);
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 6>> svd(system);
+  const double condition = svd.singularValues()(0) / svd.singularValues()(5);
+  REQUIRE(condition > 1e5);  // the case is the ill-conditioned one it names
+  const Eigen::Matrix<double, 6, 1> want = system.fullPivLu().solve(rhs);
+  CHECK((got - want).norm() <= 1e-13 * condition * want.norm());
 }
 
 TEST_CASE("the implicit update never gains energy from the stiffness", "[step]") {
