@@ -24,7 +24,9 @@
 // (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
 // --surfaces LIST (flat,waves), --mixed N (100; 0: skip): after the table, a world of N bodies of
 // the templates in turn on `auto` with buoyancy + drag, the whole world step on 1 and 2 threads
-// (issue 19's goal: under 2 ms on three waves with both cores), written to FILE_mixed.csv.
+// (issue 19's goal: under 2 ms on three waves with both cores), written to FILE_mixed.csv;
+// --resolution N (256): the table's bodies' texture resolution (the mixed world keeps the
+// scenes').
 
 #include <btBulletDynamicsCommon.h>
 
@@ -124,6 +126,7 @@ Expected<std::shared_ptr<const Mesh>> templateMesh(const SceneBody& body) {
 struct Case {
   std::string body, method, surface;
   bool drag = false;
+  int resolution = 256;  ///< the template bodies' texture resolution (texels per side)
 };
 
 struct Pass {
@@ -204,7 +207,7 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
     body.method = c.method == "exact"     ? HydrostaticsMethod::Polyhedral
                   : c.method == "texture" ? HydrostaticsMethod::Texture
                                           : HydrostaticsMethod::Auto;
-    body.resolution = 256;
+    body.resolution = c.resolution;
     body.effects = c.drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy};
     // Off equilibrium, each body its own way: heights 0..0.08 m apart, tilts and headings varied.
     body.position += Eigen::Vector3d(spacing * (i % 10), 0.02 * (i % 5) - 0.04, spacing * (i / 10));
@@ -373,13 +376,15 @@ MixedPass runMixed(const Scene& base, int bodies, int threads, int steps) {
 
 int main(int argc, char** argv) {
   // Every argument is a known option followed by its value; --help prints the options.
-  static const char* const kOptions[] = {"--runs", "--steps", "--csv", "--bodies", "--methods", "--surfaces", "--mixed"};
+  static const char* const kOptions[] = {"--runs",    "--steps",    "--csv",   "--bodies",
+                                         "--methods", "--surfaces", "--mixed", "--resolution"};
   for (int i = 1; i < argc; i += 2) {
     const std::string argument = argv[i];
     const bool known = std::find(std::begin(kOptions), std::end(kOptions), argument) != std::end(kOptions);
     if (argument == "--help" || argument == "-h" || !known || i + 1 >= argc) {
       std::printf("usage: bench_peers [--runs N] [--steps S] [--csv FILE] [--bodies box,hull,sphere,mesh]\n"
-                  "                   [--methods exact,texture,auto] [--surfaces flat,waves] [--mixed N]\n");
+                  "                   [--methods exact,texture,auto] [--surfaces flat,waves] [--mixed N]\n"
+                  "                   [--resolution N]\n");
       if (argument == "--help" || argument == "-h") return 0;
       std::fprintf(stderr, "bench_peers: %s '%s'\n", known ? "no value after" : "unknown option", argument.c_str());
       return 2;
@@ -392,6 +397,11 @@ int main(int argc, char** argv) {
   const std::vector<std::string> methods = split(option(argc, argv, "--methods", "exact,texture,auto"));
   const std::vector<std::string> surfaces = split(option(argc, argv, "--surfaces", "flat,waves"));
   const int mixedBodies = std::stoi(option(argc, argv, "--mixed", "100"));
+  const int resolution = std::stoi(option(argc, argv, "--resolution", "256"));
+  if (resolution < 16 || resolution > 4096) {
+    std::fprintf(stderr, "bench_peers: --resolution %d is outside 16..4096\n", resolution);
+    return 2;
+  }
 
   std::map<std::string, Scene> scenes;
   for (const std::string& surface : surfaces) {
@@ -407,8 +417,8 @@ int main(int argc, char** argv) {
          "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,texel_patches,mesh_patch_drag_us,"
          "mesh_patches,implicit_update_us,queries_per_step,mean_abs_vy\n";
   std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
-              "of %d steps\n",
-              kBodies, runs, steps);
+              "of %d steps, textures %d^2\n",
+              kBodies, runs, steps, resolution);
   std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %9s %8s %7s\n", "body", "tris",
               "method", "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed",
               "drag us", "mdrag us", "update us", "query/st", "|vy|m/s");
@@ -432,7 +442,7 @@ int main(int argc, char** argv) {
         if (bodyName == figure.body) peer = &figure;
       for (const std::string& method : methods) {
         for (const bool drag : {false, true}) {
-          const Case c{bodyName, method, surface, drag};
+          const Case c{bodyName, method, surface, drag, resolution};
           std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, updateUs, queries, speeds;
           Pass last;
           for (int r = 0; r < runs; ++r) {
