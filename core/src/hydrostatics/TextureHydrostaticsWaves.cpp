@@ -18,8 +18,10 @@
 /// with p = rho g (q - y') every sum that is linear in q follows from the moments sum A, sum p A,
 /// sum p p A; the first-moment sums (torque, centre of buoyancy) take the quadratic term at the
 /// unit's centre (an O(rho^3) error, within the bound's order). Crossed tiles go texel by texel
-/// with the model's height; tiles whose own bound still exceeds the tolerance go texel by texel
-/// with the surface's own height, which is the per-texel answer. The sums' difference from the
+/// with the model's height; tiles whose own bound still exceeds the tolerance (a coarse bake's
+/// large tiles, short waves) go texel by texel with the interpolant's height (its own bound e0 is
+/// a thirtieth of the tolerance), or with the surface's own, the per-texel answer, where e0 is not
+/// within the tolerance (a sample spacing set by hand). The sums' difference from the
 /// per-texel answer is far under bound x area: the model's error changes sign over a unit and over
 /// the body (test_texture_hydrostatics_waves measures it).
 
@@ -125,6 +127,10 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   spacing = std::min(spacing, std::max(highX - lowX, highZ - lowZ));
   detail::SurfaceJetGrid grid(surface, q.time, origin.x(), origin.z(), lowX, highX, lowZ, highZ, spacing);
   const detail::HermiteError interpolation = detail::hermiteError(grid.spacing(), smooth->fourth);
+  // A tile no local model covers within the tolerance takes its texels' heights from the samples'
+  // interpolant, whose pointwise bound (a thirtieth of the tolerance unless a spacing was set) is
+  // within it, and asks the surface itself (a Newton search a point) only where it is not.
+  const bool interpolatePerTexel = interpolation.height <= tolerance;
 
   detail::WettedSums sums;
   Moments under;  // wholly submerged tiles: the flat part of their sums
@@ -230,9 +236,14 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       // the surface's jet where it has one.
       double slopeX = 0.0, slopeZ = 0.0;
       double height;
+      SurfaceJet sample;
       if (model) {
         height = m.at(x, z);
         if (moment) m.slope(x, z, slopeX, slopeZ);
+      } else if (interpolatePerTexel && (moment ? grid.interpolate(x, z, sample) : grid.height(x, z, sample.height))) {
+        height = sample.height - origin.y();
+        slopeX = sample.slopeX;
+        slopeZ = sample.slopeZ;
       } else if (const std::optional<SurfaceJet> jet =
                      moment ? surface.heightJet(x + origin.x(), z + origin.z(), q.time) : std::nullopt) {
         height = jet->height - origin.y();

@@ -46,11 +46,12 @@ struct TextureHydrostaticsSettings {
   double surfaceSampleSpacing = 0.0;
   /// Under waves: the largest pointwise error bound (m) allowed to a local surface model. A group
   /// of tiles takes one model when its bound is within this, else each of its tiles takes its
-  /// own, and a tile whose bound is still larger (steep or short waves) is summed texel by texel
-  /// with the surface's own heights. The bound only widens the band of tiles visited texel by
-  /// texel; the sums' error is far smaller (it averages out over a tile). 0 picks 1e-2 m, with
-  /// which test_texture_hydrostatics_waves finds the submerged volume within 1e-5 of the body's
-  /// volume of the per-texel answer.
+  /// own, and a tile whose bound is still larger (steep or short waves, a coarse bake's large
+  /// tiles) is summed texel by texel with the samples' interpolated heights (the surface's own
+  /// where the interpolation's bound exceeds this). The bound only widens the band of tiles
+  /// visited texel by texel; the sums' error is far smaller (it averages out over a tile). 0
+  /// picks 3e-3 m, with which test_texture_hydrostatics_waves finds the submerged volume within
+  /// 1e-5 of the body's volume of the per-texel answer (3e-5 for its box).
   double surfaceModelTolerance = 0.0;
 };
 
