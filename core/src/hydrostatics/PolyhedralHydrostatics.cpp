@@ -275,10 +275,10 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
   };
   if (prepared) {
     // A node's corners lie within its half extents of its centre, so their depths lie within
-    // Sum |r1_i| h_i of the centre's (the margin keeps the classification conservative through
-    // the depths' rounding): all under (> 0) or none (<= 0) exactly as the triangles one by one
-    // would find. Depth first: an opened node's first child is the next node, a closed one's
-    // subtree is skipped to its `next`.
+    // Sum |r1_i| h_i of the centre's; the margin, 1e-12 of the terms a depth sums, keeps the
+    // classification conservative through the depths' rounding: all under (> 0) or none (<= 0)
+    // exactly as the triangles one by one would find. Depth first: an opened node's first child
+    // is the next node, a closed one's subtree is skipped to its `next`.
     const double reach[3] = {std::abs(up[0]) * (1.0 + 1e-12), std::abs(up[1]) * (1.0 + 1e-12),
                              std::abs(up[2]) * (1.0 + 1e-12)};
     const std::vector<TriangleNode>& nodes = prepared->nodes;
@@ -286,8 +286,10 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
       const TriangleNode& node = nodes[i];
       const double height = up[0] * node.center[0] + up[1] * node.center[1] + up[2] * node.center[2];
       const double depth = bodyLevel - height;
-      const double spread = reach[0] * node.halfExtent[0] + reach[1] * node.halfExtent[1] +
-                            reach[2] * node.halfExtent[2] + 1e-12 * (std::abs(bodyLevel) + std::abs(height));
+      const double spread =
+          reach[0] * (node.halfExtent[0] + 1e-12 * std::abs(node.center[0])) +
+          reach[1] * (node.halfExtent[1] + 1e-12 * std::abs(node.center[1])) +
+          reach[2] * (node.halfExtent[2] + 1e-12 * std::abs(node.center[2])) + 1e-12 * std::abs(bodyLevel);
       if (depth < -spread) {
         i = node.next;
       } else if (depth > spread) {
