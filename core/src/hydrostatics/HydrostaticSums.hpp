@@ -62,10 +62,10 @@ struct WettedSums {
     wettedArea += frac * area;
   }
 
-  /// MomentCorrectionSums' law (below) for one texel under a plane at o_y (h' = 0, no slope) for the sums a flat surface's
-  /// result reads (finishHydrostatics with ForceModel::Archimedes), which need only the column
-  /// dm(:, 1) = `column` (m^3): sumDA[0], sumDA[2] and sumDxA are left as they are (a flat
-  /// surface's force and torque come from the volume and the centre of buoyancy).
+  /// MomentCorrectionSums' law (below) for one texel under a plane at o_y (h' = 0, no slope), for
+  /// the sums a flat surface's result reads (finishHydrostatics with ForceModel::Archimedes), which
+  /// need only the column dm(:, 1) = `column` (m^3): sumDA[0], sumDA[2] and sumDxA are left as
+  /// they are (a flat surface's force and torque come from the volume and the centre of buoyancy).
   inline void addFlatMomentCorrection(double x, double y, double z, const Eigen::Vector3d& column, double weight,
                                       double depth) {
     const double w = weight;
@@ -202,7 +202,6 @@ struct alignas(32) MomentCorrectionSums {
     sums.sumZZAy += 2.0 * zColumn.z();
   }
 };
-
 
 /// Submerged fractions of a planar patch p + s eU + t eV (s, t uniform on [-1/2, 1/2]) whose
 /// height above its centre is X = s eU.y + t eV.y, under a surface `depth` d above the centre.

@@ -259,18 +259,12 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
       if (under == 0) continue;
       const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
                             positions[std::size_t(tri[2])].data()};
-      if (constants) {
-        if (under == 3)
-          m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
-        else
-          m.addCut(up, p, depth, under, constants[t]);
-      } else {
-        const TriangleConstants whole = triangleConstants(p[0], p[1], p[2]);
-        if (under == 3)
-          m.add(up, whole);
-        else
-          m.addCut(up, p, depth, under, whole);
-      }
+      if (under != 3)
+        m.addCut(up, p, depth, under, constants ? constants[t] : triangleConstants(p[0], p[1], p[2]));
+      else if (constants)
+        m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
+      else
+        m.add(up, triangleConstants(p[0], p[1], p[2]));
     }
   };
   if (prepared) {

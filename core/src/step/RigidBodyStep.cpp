@@ -88,9 +88,10 @@ Vector6d solveSymmetric(const Matrix6d& a, const Vector6d& b) {
     double pivot = a(order[k], order[k]);
     for (int j = 0; j < k; ++j) pivot -= lower[k][j] * lower[k][j] * diagonal[j];
     diagonal[k] = pivot;
-    // One division a pivot; a zero pivot leaves its column unscaled and its component 0 (Eigen's).
-    inverse[k] = std::abs(pivot) > std::numeric_limits<double>::min() ? 1.0 / pivot : 0.0;
-    const double scale = pivot != 0.0 ? inverse[k] : 1.0;
+    // One division a pivot. As Eigen's: a zero pivot leaves its column unscaled, and the solve
+    // sets the component of a pivot no larger than the smallest normal double to 0.
+    const double scale = pivot != 0.0 ? 1.0 / pivot : 1.0;
+    inverse[k] = std::abs(pivot) > std::numeric_limits<double>::min() ? scale : 0.0;
     for (int i = k + 1; i < 6; ++i) {
       double sum = a(order[i], order[k]);
       for (int j = 0; j < k; ++j) sum -= lower[i][j] * lower[k][j] * diagonal[j];
