@@ -16,6 +16,7 @@
 
 #include "TestSurfaces.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
+#include "step/UniformDragLanes.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -516,6 +517,72 @@ TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipp
   CHECK(given.force == unprepared.force);
   CHECK(given.torque == unprepared.torque);
   CHECK(given.damping == unprepared.damping);
+}
+
+TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "[step][drag]") {
+  // rigidBodyDrag runs the sum in AVX2 lanes where the processor has them, else in SSE2 ones
+  // (UniformDragLanes.hpp); the other tests see only the first. Here the SSE2 lanes, instantiated
+  // in this test, against rigidBodyDrag's answer, and the AVX2 lanes (where the processor has
+  // them) against the SSE2 ones: clusters of 1, 3, 5 and 16 patches leave 1 to 3 lanes past a
+  // span's end, which must add nothing. Every cluster is handed over as not wholly wet, which
+  // changes no ramp (deep patches clamp to 1). Bound: 1e-12 of each sum's scale, the rounding of
+  // a different summation order (and fused multiply-adds) over about a hundred patches.
+  const FlatSurface water(0.3, 1000.0);
+  std::vector<DragPatch> patches = ringOfPatches();
+  patches[5].areaVector.setZero();
+  DragBody body;
+  body.patches = patches;
+  body.referenceLength = 2.0;
+  RigidBodyMotion motion = ringMotion();
+  const DragLiquid liquid{&water, Eigen::Vector3d::Zero(), 1e-3, 0.0};
+  const double friction = bodySkinFriction(1000.0, motion.linearVelocity.norm(), 2.0, 1e-3, body.coefficients);
+  for (std::size_t clusterSize : {std::size_t(1), std::size_t(3), std::size_t(5), std::size_t(16)}) {
+    CAPTURE(clusterSize);
+    const DragPatchSet set = prepareDragPatches(patches, clusterSize);
+    body.prepared = &set;
+    const DragLoads loads = rigidBodyDrag(body, motion, liquid, 1.0 / 60.0);
+    std::vector<detail::UniformDragSpan> spans;
+    for (const DragPatchSet::Cluster& cluster : set.clusters) spans.push_back({cluster.begin, cluster.end, false});
+    detail::UniformDragInput input{set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(),
+                                   set.az.data(), set.area.data(), set.inverseRadius.data(), spans.data(),
+                                   std::uint32_t(spans.size()), {}, {}, {}, {}, {}, 0.3, 1000.0, friction,
+                                   &body.coefficients, true};
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 3; ++col) input.rotation[row][col] = motion.meshPose.rotation(row, col);
+      input.translation[row] = motion.meshPose.translation[row];
+      input.center[row] = motion.center[row];
+      input.linear[row] = motion.linearVelocity[row];
+      input.angular[row] = motion.angularVelocity[row];
+    }
+    detail::UniformDragSums pairs{};
+    detail::sumUniformDragLanes<detail::DoubleLanes>(input, pairs);
+    const auto vector = [](const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
+    const auto damping = [](const detail::UniformDragSums& sums) {
+      detail::DampingSums<double> d;
+      std::copy(std::begin(sums.outer), std::end(sums.outer), d.outer);
+      d.isotropic = sums.isotropic;
+      std::copy(std::begin(sums.moment), std::end(sums.moment), d.moment);
+      std::copy(std::begin(sums.second), std::end(sums.second), d.second);
+      return detail::dampingMatrix(d);
+    };
+    const double scale = loads.force.norm();
+    REQUIRE(scale > 1.0);
+    CHECK(pairs.visited == loads.patchesVisited);
+    CHECK((vector(pairs.force) - loads.force).norm() <= 1e-12 * scale);
+    CHECK((vector(pairs.torque) - loads.torque).norm() <= 1e-12 * scale);  // no rotational damping
+    CHECK(pairs.wetted == Approx(loads.wettedArea).epsilon(1e-12));
+    CHECK((damping(pairs) - loads.damping).norm() <= 1e-12 * loads.damping.norm());
+    detail::UniformDragSums quads{};
+    if (detail::sumUniformDragAvx2(input, quads)) {
+      CHECK(quads.visited == pairs.visited);
+      CHECK((vector(quads.force) - vector(pairs.force)).norm() <= 1e-12 * scale);
+      CHECK((vector(quads.torque) - vector(pairs.torque)).norm() <= 1e-12 * scale);
+      CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
+      CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
+    } else {
+      WARN("this processor has no AVX2 and FMA (or the library was built without them): SSE2 lanes only");
+    }
+  }
 }
 
 TEST_CASE("under waves drag interpolates the surface above its patches within its bound", "[step][drag][waves]") {

@@ -19,6 +19,7 @@
 
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
+#include "step/UniformDragLanes.hpp"
 
 namespace hydrotex {
 namespace {
@@ -203,9 +204,11 @@ DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t 
     self(self, middle, end);
   };
   split(split, 0, std::uint32_t(count));
+  // Zeros past the last patch: the sum's lanes may load there (detail::kDragLanePadding).
+  set.count = count;
   for (std::vector<float>* column : {&set.x, &set.y, &set.z, &set.ax, &set.ay, &set.az, &set.area, &set.radius})
-    column->resize(count);
-  set.inverseRadius.resize(count);
+    column->resize(count + detail::kDragLanePadding, 0.0f);
+  set.inverseRadius.resize(count + detail::kDragLanePadding, 0.0);
   for (std::size_t i = 0; i < count; ++i) {
     const DragPatch& patch = patches[order[i]];
     set.x[i] = patch.position.x();
@@ -283,91 +286,47 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   // The law's derivative, for the implicit update, when the body asks for it (DragDamping).
   const bool linearized = body.damping == DragDamping::Linearized;
   detail::DampingSums<double> damping;
+  // A still, flat, uniform liquid: the patches several at a time in SIMD lanes (UniformDragLanes.hpp),
+  // the spans of the clusters not skipped handed over in batches.
 #ifdef HYDROTEX_DOUBLE_LANES
-  // Lane sums of the patches taken in pairs (one SSE2 register each): force, torque, wetted area.
-  using Pair = detail::DoubleLanes;
-  Pair pairForce[3] = {0.0, 0.0, 0.0}, pairTorque[3] = {0.0, 0.0, 0.0}, pairWetted = 0.0;
-  detail::DampingSums<Pair> pairDamping;
-  const double flatSurfaceLevel = flatLevel.value_or(0.0);
+  const bool lanes = uniform && density > 0.0;
+#else
+  const bool lanes = false;
 #endif
+  detail::UniformDragSums laneSums{};
+  detail::UniformDragInput laneInput{};
+  detail::UniformDragSpan spans[64];
+  if (lanes) {
+    laneInput = {set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(), set.az.data(), set.area.data(),
+                 set.inverseRadius.data(), spans, 0, {}, {}, {}, {}, {}, *flatLevel, density, friction,
+                 &body.coefficients, linearized};
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 3; ++col) laneInput.rotation[row][col] = rotation(row, col);
+      laneInput.translation[row] = translation[row];
+      laneInput.center[row] = center[row];
+      laneInput.linear[row] = v[row];
+      laneInput.angular[row] = w[row];
+    }
+  }
+  const auto sumSpans = [&] {
+#ifdef HYDROTEX_DOUBLE_LANES
+    if (!detail::sumUniformDragAvx2(laneInput, laneSums))
+      detail::sumUniformDragLanes<detail::DoubleLanes>(laneInput, laneSums);
+#endif
+    laneInput.spanCount = 0;
+  };
   for (const DragPatchSet::Cluster& cluster : set.clusters) {
     const double clusterDepth = flat ? levelAboveOrigin - up.dot(cluster.center) : 0.0;
     if (flat && clusterDepth < -upReach * cluster.radius) continue;  // wholly dry
     if (waves && up.dot(cluster.center) - upReach * cluster.radius > highestCrest) continue;  // above every crest
     const bool whollyWet = uniform && clusterDepth > upReach * cluster.radius;  // every patch's ramp at 1
-    std::uint32_t i = cluster.begin;
-#ifdef HYDROTEX_DOUBLE_LANES
-    if (uniform && density > 0.0) {
-      // Two patches at a time, lane by lane the scalar path's operations (the law is
-      // detail::dragLawLanes for both). A dry lane (ramp 0) and a lane without projected area
-      // (normal and areas 0) add exact zeros, as the scalar path's skips.
-      const auto floats = [&i](const std::vector<float>& column) {
-        return Pair(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(column.data() + i)))));
-      };
-      const auto turn = [&rotation](int row, const Pair& x, const Pair& y, const Pair& z) {
-        return Pair(rotation(row, 0)) * x + Pair(rotation(row, 1)) * y + Pair(rotation(row, 2)) * z;
-      };
-      // In chunks of up to eight pairs, in two passes: the posing (to the normals' square root and
-      // division), then the law (to the friction's square root). Each pass's iterations are
-      // short and independent, so the processor overlaps their long latencies; one pass per
-      // pair would leave them in series.
-      constexpr int kChunk = 8;
-      struct Posed {
-        Pair r[3], u[3], n[3], projected, frictionArea, wet, area;
-      };
-      Posed posed[kChunk];
-      while (i + 1 < cluster.end) {
-        int count = 0;
-        for (; count < kChunk && i + 1 < cluster.end; i += 2) {
-          const Pair px = floats(set.x), py = floats(set.y), pz = floats(set.z);
-          const Pair p[3] = {turn(0, px, py, pz) + Pair(translation.x()), turn(1, px, py, pz) + Pair(translation.y()),
-                             turn(2, px, py, pz) + Pair(translation.z())};
-          Pair wet = 1.0;
-          if (!whollyWet) {
-            const Pair ramp = Pair(0.5) + Pair(0.5) * (Pair(flatSurfaceLevel) - p[1]) *
-                                              Pair(_mm_loadu_pd(set.inverseRadius.data() + i));
-            wet = Pair(_mm_min_pd(_mm_max_pd(ramp.v, _mm_setzero_pd()), _mm_set1_pd(1.0)));
-            const int wetLanes = _mm_movemask_pd(_mm_cmpgt_pd(wet.v, _mm_setzero_pd()));
-            if (wetLanes == 0) continue;
-            visited += std::uint64_t((wetLanes & 1) + (wetLanes >> 1));
-          } else {
-            visited += 2;
-          }
-          Posed& at = posed[count++];
-          at.wet = wet;
-          for (int k = 0; k < 3; ++k) at.r[k] = p[k] - Pair(center[k]);
-          at.u[0] = Pair(v.x()) + (Pair(w.y()) * at.r[2] - Pair(w.z()) * at.r[1]);
-          at.u[1] = Pair(v.y()) + (Pair(w.z()) * at.r[0] - Pair(w.x()) * at.r[2]);
-          at.u[2] = Pair(v.z()) + (Pair(w.x()) * at.r[1] - Pair(w.y()) * at.r[0]);
-          const Pair ax = floats(set.ax), ay = floats(set.ay), az = floats(set.az);
-          const Pair a[3] = {turn(0, ax, ay, az), turn(1, ax, ay, az), turn(2, ax, ay, az)};
-          at.projected = squareRoot(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-          // A lane without projected area: normal and areas 0 (no force, as the law's early zero).
-          const __m128d hasArea = _mm_cmpgt_pd(at.projected.v, _mm_setzero_pd());
-          const Pair safe(_mm_or_pd(_mm_and_pd(hasArea, at.projected.v), _mm_andnot_pd(hasArea, _mm_set1_pd(1.0))));
-          const Pair inverse = Pair(1.0) / safe;  // one division for the three components
-          for (int k = 0; k < 3; ++k) at.n[k] = a[k] * inverse;
-          at.area = floats(set.area);
-          at.frictionArea = Pair(_mm_and_pd(hasArea, _mm_max_pd(at.area.v, at.projected.v)));
-        }
-        for (int j = 0; j < count; ++j) {
-          const Posed& at = posed[j];
-          Pair f[3];
-          detail::DragRates<Pair> rates;
-          detail::dragLawLanes(at.n, at.projected, at.frictionArea, at.u, density, friction, body.coefficients, f,
-                               linearized ? &rates : nullptr);
-          if (linearized) detail::addDragDamping(pairDamping, at.n, at.r, rates, at.wet);
-          for (int k = 0; k < 3; ++k) f[k] = at.wet * f[k];
-          for (int k = 0; k < 3; ++k) pairForce[k] += f[k];
-          pairTorque[0] += at.r[1] * f[2] - at.r[2] * f[1];
-          pairTorque[1] += at.r[2] * f[0] - at.r[0] * f[2];
-          pairTorque[2] += at.r[0] * f[1] - at.r[1] * f[0];
-          pairWetted += at.wet * at.area;
-        }
-      }
+    if (lanes) {
+      spans[laneInput.spanCount++] = {cluster.begin, cluster.end, whollyWet};
+      if (laneInput.spanCount == std::size(spans)) sumSpans();
+      continue;
     }
-#endif
-    // The rest in chunks: each patch posed and tested wet, then the liquid's velocity for the
+    std::uint32_t i = cluster.begin;
+    // Any other liquid, in chunks: each patch posed and tested wet, then the liquid's velocity for the
     // chunk's wet patches at once (velocitiesBelow: waves turn their phases from the first
     // patch's instead of calling sin and cos per patch), then the law.
     constexpr std::uint32_t kChunk = 16;
@@ -423,17 +382,17 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
       }
     }
   }
-#ifdef HYDROTEX_DOUBLE_LANES
+  if (laneInput.spanCount > 0) sumSpans();
   for (int k = 0; k < 3; ++k) {
-    force[k] += pairForce[k].sum();
-    torque[k] += pairTorque[k].sum();
+    force[k] += laneSums.force[k];
+    torque[k] += laneSums.torque[k];
   }
-  wettedArea += pairWetted.sum();
-  for (int k = 0; k < 21; ++k) damping.outer[k] += pairDamping.outer[k].sum();
-  damping.isotropic += pairDamping.isotropic.sum();
-  for (int k = 0; k < 3; ++k) damping.moment[k] += pairDamping.moment[k].sum();
-  for (int k = 0; k < 6; ++k) damping.second[k] += pairDamping.second[k].sum();
-#endif
+  wettedArea += laneSums.wetted;
+  visited += laneSums.visited;
+  for (int k = 0; k < 21; ++k) damping.outer[k] += laneSums.outer[k];
+  damping.isotropic += laneSums.isotropic;
+  for (int k = 0; k < 3; ++k) damping.moment[k] += laneSums.moment[k];
+  for (int k = 0; k < 6; ++k) damping.second[k] += laneSums.second[k];
   out.force = force;
   out.torque = torque;
   out.patchesVisited = visited;

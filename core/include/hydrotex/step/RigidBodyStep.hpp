@@ -41,8 +41,8 @@ struct DragLiquid {
 };
 
 /// A body's drag patches laid out for rigidBodyDrag's sum (prepareDragPatches), kept with its model:
-/// a structure of arrays (the sum takes two patches at a time in SSE2 lanes), in clusters of nearby
-/// patches of one facing (split across the longest side of their bounds in position and normal)
+/// a structure of arrays (the sum takes two or four patches at a time in SIMD lanes), in clusters
+/// of nearby patches of one facing (split across the longest side of their bounds in position and normal)
 /// with a bounding sphere that holds every patch's sphere, so that a cluster wholly above a flat
 /// surface is skipped in O(1), as the buoyancy's tiles are, and one wholly under it skips the
 /// patches' wet ramps. A wet cluster still visits each of its patches: the quadratic law has no
@@ -56,12 +56,15 @@ struct DragPatchSet {
     double radius = 0.0;
     std::uint32_t begin = 0, end = 0;
   };
+  /// The columns hold size() patches and then a few zeros, so that the sum's SIMD lanes may load
+  /// past the last patch.
   std::vector<float> x, y, z;               ///< centroid (m, mesh frame), as DragPatch::position
   std::vector<float> ax, ay, az;            ///< area vector (m^2, mesh frame), as DragPatch::areaVector
   std::vector<float> area, radius;          ///< m^2 and m, as DragPatch
   std::vector<double> inverseRadius;        ///< 1 / max(radius, 1e-9) (1/m): the wet ramp's slope, once
   std::vector<Cluster> clusters;            ///< covering every patch once, in order
-  std::size_t size() const { return x.size(); }
+  std::size_t count = 0;                    ///< patches
+  std::size_t size() const { return count; }
   std::size_t memoryBytes() const;          ///< heap held
 };
 

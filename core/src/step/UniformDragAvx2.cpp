@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: Zlib
+/// @file UniformDragAvx2.cpp
+/// UniformDragLanes.hpp's sum four patches at a time in AVX2 registers, with fused multiply-adds.
+/// core/CMakeLists.txt compiles this file alone with -mavx2 -mfma where the compiler takes them;
+/// the processor is asked once, at the first call. Everything this file instantiates depends on
+/// QuadLanes, which has internal linkage, so no AVX2 code can stand in for another unit's
+/// (UniformDragLanes.hpp); `nm` on its object lists no weak symbol from -O1 up (at -O0 GCC adds
+/// the empty constructors of Eigen's placeholders `all` and `last`, which hold no vector code).
+
+#include "step/UniformDragLanes.hpp"
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+
+#include <cstdlib>
+
+namespace hydrotex::detail {
+namespace {
+
+/// Four doubles in one AVX2 register, with DoubleLanes' operations.
+struct QuadLanes {
+  static constexpr unsigned kWidth = 4;
+  __m256d v;
+  QuadLanes() = default;
+  explicit QuadLanes(__m256d lanes) : v(lanes) {}
+  QuadLanes(double all) : v(_mm256_set1_pd(all)) {}  // NOLINT: scalars mix in as in the scalar law
+  double sum() const {
+    const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+    return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
+  }
+  static QuadLanes loadFloats(const float* p) { return QuadLanes(_mm256_cvtps_pd(_mm_loadu_ps(p))); }
+  static QuadLanes loadDoubles(const double* p) { return QuadLanes(_mm256_loadu_pd(p)); }
+  static QuadLanes firstLanes(unsigned count) {
+    const __m256d first = _mm256_cmp_pd(_mm256_set_pd(3.0, 2.0, 1.0, 0.0), _mm256_set1_pd(double(count)), _CMP_LT_OQ);
+    return QuadLanes(_mm256_and_pd(first, _mm256_set1_pd(1.0)));
+  }
+};
+inline QuadLanes operator+(QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_add_pd(a.v, b.v)); }
+inline QuadLanes operator-(QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_sub_pd(a.v, b.v)); }
+inline QuadLanes operator*(QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_mul_pd(a.v, b.v)); }
+inline QuadLanes operator/(QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_div_pd(a.v, b.v)); }
+inline QuadLanes operator-(QuadLanes a) { return QuadLanes(_mm256_xor_pd(a.v, _mm256_set1_pd(-0.0))); }
+inline QuadLanes& operator+=(QuadLanes& a, QuadLanes b) { return a = a + b; }
+inline QuadLanes& operator-=(QuadLanes& a, QuadLanes b) { return a = a - b; }
+inline QuadLanes selectPositive(QuadLanes x, double positive, double otherwise) {
+  return QuadLanes(_mm256_blendv_pd(_mm256_set1_pd(otherwise), _mm256_set1_pd(positive),
+                                    _mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)));
+}
+inline QuadLanes absolute(QuadLanes x) { return QuadLanes(_mm256_andnot_pd(_mm256_set1_pd(-0.0), x.v)); }
+inline QuadLanes squareRoot(QuadLanes x) { return QuadLanes(_mm256_sqrt_pd(x.v)); }
+inline QuadLanes maximum(QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_max_pd(a.v, b.v)); }
+inline QuadLanes clampUnit(QuadLanes x) {
+  return QuadLanes(_mm256_min_pd(_mm256_max_pd(x.v, _mm256_setzero_pd()), _mm256_set1_pd(1.0)));
+}
+inline QuadLanes positiveMask(QuadLanes x) { return QuadLanes(_mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)); }
+inline int positiveLanes(QuadLanes x) { return _mm256_movemask_pd(_mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)); }
+inline QuadLanes select(QuadLanes mask, QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_blendv_pd(b.v, a.v, mask.v)); }
+
+}  // namespace
+
+bool sumUniformDragAvx2(const UniformDragInput& in, UniformDragSums& out) {
+  // As the wetting's wide lanes (Wetting.cpp): HYDROTEX_DISABLE_AVX2 keeps the SSE2 ones.
+  static const bool supported =
+      __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
+  if (!supported) return false;
+  sumUniformDragLanes<QuadLanes>(in, out);
+  return true;
+}
+
+}  // namespace hydrotex::detail
+
+#else
+
+namespace hydrotex::detail {
+bool sumUniformDragAvx2(const UniformDragInput&, UniformDragSums&) { return false; }
+}  // namespace hydrotex::detail
+
+#endif
