@@ -194,7 +194,11 @@ DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t 
     }
     int axis = 0;
     (upper - lower).maxCoeff(&axis);
-    const std::uint32_t middle = begin + (end - begin) / 2;
+    // The half nearest a whole number of lane groups (four patches; two divide it too), so that
+    // few lanes of the sum idle past a cluster's end: 82 patches in clusters of 10 and 11 left
+    // 17 % of the lanes empty.
+    const std::uint32_t half = std::max<std::uint32_t>((end - begin + 4) / 8 * 4, 1);
+    const std::uint32_t middle = begin + std::min(half, end - begin - 1);
     std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end,
                      [&](std::uint32_t l, std::uint32_t r) {
                        const float kl = key[l][axis], kr = key[r][axis];

@@ -52,7 +52,7 @@ inline constexpr std::uint32_t kDragLanePadding = 3;
 
 /// The sum over `in`'s spans, `L::kWidth` patches at a time, added to `out`. Each lane does the
 /// scalar law's operations (a lane past a span's end, dry or without projected area adds exact
-/// zeros). In chunks of up to eight groups, in two passes: the posing (to the normals' square
+/// zeros). In chunks of up to eight wet groups, in two passes: the posing (to the normals' square
 /// root and division), then the law (to the friction's square root). Each pass's iterations are
 /// short and independent, so the processor overlaps their long latencies.
 template <class L>
@@ -69,53 +69,59 @@ inline void sumUniformDragLanes(const UniformDragInput& in, UniformDragSums& out
     L r[3], u[3], n[3], projected, frictionArea, wet, area;
   };
   Posed posed[kChunk];
-  for (std::uint32_t s = 0; s < in.spanCount; ++s) {
-    const UniformDragSpan span = in.spans[s];
-    std::uint32_t i = span.begin;
-    while (i < span.end) {
-      int count = 0;
-      for (; count < kChunk && i < span.end; i += kWidth) {
-        // Lanes past the span's end: wet 0 (their loads stay within the columns' padding).
-        const L active = L::firstLanes(span.end - i);
-        const L px = L::loadFloats(in.x + i), py = L::loadFloats(in.y + i), pz = L::loadFloats(in.z + i);
-        const L p[3] = {turn(0, px, py, pz) + L(in.translation[0]), turn(1, px, py, pz) + L(in.translation[1]),
-                        turn(2, px, py, pz) + L(in.translation[2])};
-        L wet = active;
-        if (!span.whollyWet)
-          wet = active * clampUnit(L(0.5) + L(0.5) * (L(in.level) - p[1]) * L::loadDoubles(in.inverseRadius + i));
-        const int wetLanes = positiveLanes(wet);
-        if (wetLanes == 0) continue;
-        visited += std::uint64_t(__builtin_popcount(unsigned(wetLanes)));
-        Posed& at = posed[count++];
-        at.wet = wet;
-        for (int k = 0; k < 3; ++k) at.r[k] = p[k] - L(in.center[k]);
-        at.u[0] = L(in.linear[0]) + (L(in.angular[1]) * at.r[2] - L(in.angular[2]) * at.r[1]);
-        at.u[1] = L(in.linear[1]) + (L(in.angular[2]) * at.r[0] - L(in.angular[0]) * at.r[2]);
-        at.u[2] = L(in.linear[2]) + (L(in.angular[0]) * at.r[1] - L(in.angular[1]) * at.r[0]);
-        const L ax = L::loadFloats(in.ax + i), ay = L::loadFloats(in.ay + i), az = L::loadFloats(in.az + i);
-        const L a[3] = {turn(0, ax, ay, az), turn(1, ax, ay, az), turn(2, ax, ay, az)};
-        at.projected = squareRoot(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        // A lane without projected area: normal and areas 0 (no force, as the law's early zero).
-        const L hasArea = positiveMask(at.projected);
-        const L inverse = L(1.0) / select(hasArea, at.projected, L(1.0));  // one division for the three components
-        for (int k = 0; k < 3; ++k) at.n[k] = a[k] * inverse;
-        at.area = L::loadFloats(in.area + i);
-        at.frictionArea = select(hasArea, maximum(at.area, at.projected), L(0.0));
+  // The chunks run on across spans (a cluster holds a few groups: one chunk each would leave
+  // the latencies in series again).
+  std::uint32_t s = 0, i = in.spanCount > 0 ? in.spans[0].begin : 0;
+  while (s < in.spanCount) {
+    int count = 0;
+    while (count < kChunk && s < in.spanCount) {
+      const UniformDragSpan& span = in.spans[s];
+      if (i >= span.end) {
+        if (++s < in.spanCount) i = in.spans[s].begin;
+        continue;
       }
-      for (int j = 0; j < count; ++j) {
-        const Posed& at = posed[j];
-        L f[3];
-        DragRates<L> rates;
-        dragLawLanes(at.n, at.projected, at.frictionArea, at.u, in.density, in.friction, *in.coefficients, f,
-                     in.linearized ? &rates : nullptr);
-        if (in.linearized) addDragDamping(damping, at.n, at.r, rates, at.wet);
-        for (int k = 0; k < 3; ++k) f[k] = at.wet * f[k];
-        for (int k = 0; k < 3; ++k) force[k] += f[k];
-        torque[0] += at.r[1] * f[2] - at.r[2] * f[1];
-        torque[1] += at.r[2] * f[0] - at.r[0] * f[2];
-        torque[2] += at.r[0] * f[1] - at.r[1] * f[0];
-        wetted += at.wet * at.area;
-      }
+      // Lanes past the span's end: wet 0 (their loads stay within the columns' padding).
+      const std::uint32_t first = i;
+      i += kWidth;
+      const L active = L::firstLanes(span.end - first);
+      const L px = L::loadFloats(in.x + first), py = L::loadFloats(in.y + first), pz = L::loadFloats(in.z + first);
+      const L p[3] = {turn(0, px, py, pz) + L(in.translation[0]), turn(1, px, py, pz) + L(in.translation[1]),
+                      turn(2, px, py, pz) + L(in.translation[2])};
+      L wet = active;
+      if (!span.whollyWet)
+        wet = active * clampUnit(L(0.5) + L(0.5) * (L(in.level) - p[1]) * L::loadDoubles(in.inverseRadius + first));
+      const int wetLanes = positiveLanes(wet);
+      if (wetLanes == 0) continue;
+      visited += std::uint64_t(__builtin_popcount(unsigned(wetLanes)));
+      Posed& at = posed[count++];
+      at.wet = wet;
+      for (int k = 0; k < 3; ++k) at.r[k] = p[k] - L(in.center[k]);
+      at.u[0] = L(in.linear[0]) + (L(in.angular[1]) * at.r[2] - L(in.angular[2]) * at.r[1]);
+      at.u[1] = L(in.linear[1]) + (L(in.angular[2]) * at.r[0] - L(in.angular[0]) * at.r[2]);
+      at.u[2] = L(in.linear[2]) + (L(in.angular[0]) * at.r[1] - L(in.angular[1]) * at.r[0]);
+      const L ax = L::loadFloats(in.ax + first), ay = L::loadFloats(in.ay + first), az = L::loadFloats(in.az + first);
+      const L a[3] = {turn(0, ax, ay, az), turn(1, ax, ay, az), turn(2, ax, ay, az)};
+      at.projected = squareRoot(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+      // A lane without projected area: normal and areas 0 (no force, as the law's early zero).
+      const L hasArea = positiveMask(at.projected);
+      const L inverse = L(1.0) / select(hasArea, at.projected, L(1.0));  // one division for the three components
+      for (int k = 0; k < 3; ++k) at.n[k] = a[k] * inverse;
+      at.area = L::loadFloats(in.area + first);
+      at.frictionArea = select(hasArea, maximum(at.area, at.projected), L(0.0));
+    }
+    for (int j = 0; j < count; ++j) {
+      const Posed& at = posed[j];
+      L f[3];
+      DragRates<L> rates;
+      dragLawLanes(at.n, at.projected, at.frictionArea, at.u, in.density, in.friction, *in.coefficients, f,
+                   in.linearized ? &rates : nullptr);
+      if (in.linearized) addDragDamping(damping, at.n, at.r, rates, at.wet);
+      for (int k = 0; k < 3; ++k) f[k] = at.wet * f[k];
+      for (int k = 0; k < 3; ++k) force[k] += f[k];
+      torque[0] += at.r[1] * f[2] - at.r[2] * f[1];
+      torque[1] += at.r[2] * f[0] - at.r[0] * f[2];
+      torque[2] += at.r[0] * f[1] - at.r[1] * f[0];
+      wetted += at.wet * at.area;
     }
   }
   for (int k = 0; k < 3; ++k) {
