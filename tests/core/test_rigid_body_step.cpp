@@ -16,7 +16,7 @@
 
 #include "TestSurfaces.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
-#include "step/UniformDragLanes.hpp"
+#include "step/DragLanes.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/step/RigidBodyStep.hpp"
 
@@ -521,7 +521,7 @@ TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipp
 
 TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "[step][drag]") {
   // rigidBodyDrag runs the sum in AVX2 lanes where the processor has them, else in SSE2 ones
-  // (UniformDragLanes.hpp); the other tests see only the first. Here the SSE2 lanes, instantiated
+  // (DragLanes.hpp); the other tests see only the first. Here the SSE2 lanes, instantiated
   // in this test, against rigidBodyDrag's answer, and the AVX2 lanes (where the processor has
   // them) against the SSE2 ones: clusters of 1, 3, 5 and 16 patches leave 1 to 3 lanes past a
   // span's end, which must add nothing. Every cluster is handed over as not wholly wet, which
@@ -545,8 +545,8 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
     for (const DragPatchSet::Cluster& cluster : set.clusters) spans.push_back({cluster.begin, cluster.end, false});
     detail::UniformDragInput input{set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(),
                                    set.az.data(), set.area.data(), set.inverseRadius.data(), spans.data(),
-                                   std::uint32_t(spans.size()), {}, {}, {}, {}, {}, 0.3, 1000.0, friction,
-                                   &body.coefficients, true};
+                                   std::uint32_t(spans.size()), {}, {}, {}, {}, {}, 0.3,
+                                   detail::DragLaneLaw{1000.0, friction, &body.coefficients, true}};
     for (int row = 0; row < 3; ++row) {
       for (int col = 0; col < 3; ++col) input.rotation[row][col] = motion.meshPose.rotation(row, col);
       input.translation[row] = motion.meshPose.translation[row];
@@ -554,10 +554,10 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
       input.linear[row] = motion.linearVelocity[row];
       input.angular[row] = motion.angularVelocity[row];
     }
-    detail::UniformDragSums pairs{};
+    detail::DragLaneSums pairs{};
     detail::sumUniformDragLanes<detail::DoubleLanes>(input, pairs);
     const auto vector = [](const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
-    const auto damping = [](const detail::UniformDragSums& sums) {
+    const auto damping = [](const detail::DragLaneSums& sums) {
       detail::DampingSums<double> d;
       std::copy(std::begin(sums.outer), std::end(sums.outer), d.outer);
       d.isotropic = sums.isotropic;
@@ -572,7 +572,7 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
     CHECK((vector(pairs.torque) - loads.torque).norm() <= 1e-12 * scale);  // no rotational damping
     CHECK(pairs.wetted == Approx(loads.wettedArea).epsilon(1e-12));
     CHECK((damping(pairs) - loads.damping).norm() <= 1e-12 * loads.damping.norm());
-    detail::UniformDragSums quads{};
+    detail::DragLaneSums quads{};
     if (detail::sumUniformDragAvx2(input, quads)) {
       CHECK(quads.visited == pairs.visited);
       CHECK((vector(quads.force) - vector(pairs.force)).norm() <= 1e-12 * scale);
@@ -582,6 +582,77 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
     } else {
       WARN("this processor has no AVX2 and FMA (or the library was built without them): SSE2 lanes only");
     }
+  }
+}
+
+TEST_CASE("in a current the drag sum's posed lanes give the patch-by-patch sum, SSE2 and AVX2 alike", "[step][drag]") {
+  // A current makes the liquid not still: rigidBodyDrag poses the patches and asks their wet
+  // fractions and the liquid's velocity itself, and the lanes take the law (sumPosedDragLanes).
+  // Its answer against the patch-by-patch sum with the public law, then the SSE2 lanes (this
+  // test's instantiation) and the AVX2 ones (where the processor has them) on the same posed
+  // patches against it: 1e-12 of each sum's scale (summation order, fused multiply-adds).
+  const FlatSurface water(0.3, 1000.0);
+  std::vector<DragPatch> patches = ringOfPatches();
+  patches[5].areaVector.setZero();
+  const DragPatchSet set = prepareDragPatches(patches);
+  DragBody body;
+  body.patches = patches;
+  body.prepared = &set;
+  body.referenceLength = 2.0;
+  const RigidBodyMotion motion = ringMotion();
+  const Eigen::Vector3d current(0.2, 0.0, -0.1);
+  const DragLiquid liquid{&water, current, 1e-3, 0.0};
+  const DragLoads loads = rigidBodyDrag(body, motion, liquid, 1.0 / 60.0);
+  const double friction =
+      bodySkinFriction(1000.0, (motion.linearVelocity - current).norm(), 2.0, 1e-3, body.coefficients);
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  std::vector<double> columns[11];  // r, u, a (x, y, z each), area, wet
+  for (const DragPatch& patch : patches) {
+    const Eigen::Vector3d p = motion.meshPose.apply(patch.position.cast<double>());
+    const double wet = patchWetFraction(0.3 - p.y(), patch.radius);
+    if (wet <= 0.0) continue;
+    const Eigen::Vector3d r = p - motion.center;
+    const Eigen::Vector3d u = motion.linearVelocity + motion.angularVelocity.cross(r) - current;
+    const Eigen::Vector3d a = motion.meshPose.rotation * patch.areaVector.cast<double>();
+    const Eigen::Vector3d f = wet * texelDragForceWithFriction(a, patch.area, u, 1000.0, friction, body.coefficients);
+    force += f;
+    torque += r.cross(f);
+    const double values[11] = {r.x(), r.y(), r.z(), u.x(), u.y(), u.z(), a.x(), a.y(), a.z(), patch.area, wet};
+    for (int k = 0; k < 11; ++k) columns[k].push_back(values[k]);
+  }
+  const double scale = force.norm();
+  REQUIRE(scale > 1.0);
+  CHECK(loads.patchesVisited == columns[0].size());
+  CHECK((loads.force - force).norm() <= 1e-12 * scale);
+  CHECK((loads.torque - torque).norm() <= 1e-12 * scale);
+  const std::uint32_t count = std::uint32_t(columns[0].size());
+  for (std::vector<double>& column : columns) column.resize(count + detail::kDragLanePadding, 0.0);
+  const detail::PosedDragInput input{columns[0].data(), columns[1].data(), columns[2].data(), columns[3].data(),
+                                     columns[4].data(), columns[5].data(), columns[6].data(), columns[7].data(),
+                                     columns[8].data(), columns[9].data(), columns[10].data(), count,
+                                     detail::DragLaneLaw{1000.0, friction, &body.coefficients, true}};
+  const auto damping = [](const detail::DragLaneSums& sums) {
+    detail::DampingSums<double> d;
+    std::copy(std::begin(sums.outer), std::end(sums.outer), d.outer);
+    d.isotropic = sums.isotropic;
+    std::copy(std::begin(sums.moment), std::end(sums.moment), d.moment);
+    std::copy(std::begin(sums.second), std::end(sums.second), d.second);
+    return detail::dampingMatrix(d);
+  };
+  const auto vector = [](const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
+  detail::DragLaneSums pairs{}, quads{};
+  detail::sumPosedDragLanes<detail::DoubleLanes>(input, pairs);
+  CHECK((vector(pairs.force) - force).norm() <= 1e-12 * scale);
+  CHECK((vector(pairs.torque) - torque).norm() <= 1e-12 * scale);
+  CHECK(pairs.wetted == Approx(loads.wettedArea).epsilon(1e-12));
+  CHECK((damping(pairs) - loads.damping).norm() <= 1e-12 * loads.damping.norm());
+  if (detail::sumPosedDragAvx2(input, quads)) {
+    CHECK((vector(quads.force) - force).norm() <= 1e-12 * scale);
+    CHECK((vector(quads.torque) - torque).norm() <= 1e-12 * scale);
+    CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
+    CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
+  } else {
+    WARN("this processor has no AVX2 and FMA (or the library was built without them): SSE2 lanes only");
   }
 }
 

@@ -24,8 +24,8 @@ namespace hydrotex::detail {
 inline constexpr double kDragSurfaceHeightError = 1e-4;
 
 /// What the law needs of its number type, for one element (double) or several at once
-/// (DoubleLanes, two in one SSE2 register, and UniformDragAvx2.cpp's four in an AVX2 one: the
-/// rigid body's drag sum in a still liquid, UniformDragLanes.hpp).
+/// (DoubleLanes, two in one SSE2 register, and DragLanesAvx2.cpp's four in an AVX2 one: the
+/// rigid body's drag sum in a still liquid, DragLanes.hpp).
 inline double selectPositive(double x, double positive, double otherwise) { return x > 0.0 ? positive : otherwise; }
 inline double absolute(double x) { return std::abs(x); }
 inline double squareRoot(double x) { return std::sqrt(x); }

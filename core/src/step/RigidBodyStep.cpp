@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -19,7 +20,7 @@
 
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
-#include "step/UniformDragLanes.hpp"
+#include "step/DragLanes.hpp"
 
 namespace hydrotex {
 namespace {
@@ -134,6 +135,53 @@ detail::Footprint dragFootprint(const DragPatchSet& set, const Eigen::Matrix3d& 
     footprint.add(c.x(), c.z(), 1.001 * cluster.radius);
   }
   return footprint;
+}
+
+/// Wet patches posed for detail::sumPosedDragLanes, as its columns: kept per thread between calls,
+/// so that a step allocates nothing once they have grown.
+class PosedDragColumns {
+ public:
+  /// Room for `capacity` patches (and the padding), none held.
+  void reset(std::size_t capacity) {
+    for (std::vector<double>* column : columns()) column->resize(capacity + detail::kDragLanePadding);
+    count_ = 0;
+  }
+  std::uint32_t count() const { return count_; }
+  /// Adds a patch (at most reset's capacity).
+  void add(const Eigen::Vector3d& r, const Eigen::Vector3d& relative, const Eigen::Vector3d& areaVector, double area,
+           double wet) {
+    const std::uint32_t i = count_++;
+    rx_[i] = r.x();
+    ry_[i] = r.y();
+    rz_[i] = r.z();
+    ux_[i] = relative.x();
+    uy_[i] = relative.y();
+    uz_[i] = relative.z();
+    ax_[i] = areaVector.x();
+    ay_[i] = areaVector.y();
+    az_[i] = areaVector.z();
+    area_[i] = area;
+    wet_[i] = wet;
+  }
+  /// The kernel's input: the columns with zeros past the last patch.
+  detail::PosedDragInput input(const detail::DragLaneLaw& law) {
+    for (std::vector<double>* column : columns())
+      std::fill(column->begin() + count_, column->begin() + count_ + detail::kDragLanePadding, 0.0);
+    return {rx_.data(), ry_.data(), rz_.data(), ux_.data(), uy_.data(), uz_.data(), ax_.data(), ay_.data(),
+            az_.data(), area_.data(), wet_.data(), count_, law};
+  }
+
+ private:
+  std::array<std::vector<double>*, 11> columns() {
+    return {&rx_, &ry_, &rz_, &ux_, &uy_, &uz_, &ax_, &ay_, &az_, &area_, &wet_};
+  }
+  std::vector<double> rx_, ry_, rz_, ux_, uy_, uz_, ax_, ay_, az_, area_, wet_;
+  std::uint32_t count_ = 0;
+};
+
+PosedDragColumns& posedDragScratch() {
+  thread_local PosedDragColumns columns;
+  return columns;
 }
 
 }  // namespace
@@ -290,20 +338,25 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   // The law's derivative, for the implicit update, when the body asks for it (DragDamping).
   const bool linearized = body.damping == DragDamping::Linearized;
   detail::DampingSums<double> damping;
-  // A still, flat, uniform liquid: the patches several at a time in SIMD lanes (UniformDragLanes.hpp),
-  // the spans of the clusters not skipped handed over in batches.
+  // The law several patches at a time in SIMD lanes (DragLanes.hpp): in a still, flat, uniform
+  // liquid the patches are posed and tested wet there too, the spans of the clusters not skipped
+  // handed over in batches; in any other liquid with a free surface (one density) they are posed
+  // and asked the surface here, and handed over posed.
 #ifdef HYDROTEX_DOUBLE_LANES
   const bool lanes = uniform && density > 0.0;
+  const bool posedLanes = !lanes && freeSurface && density > 0.0;
 #else
-  const bool lanes = false;
+  const bool lanes = false, posedLanes = false;
 #endif
-  detail::UniformDragSums laneSums{};
+  const detail::DragLaneLaw law{density, friction, &body.coefficients, linearized};
+  detail::DragLaneSums laneSums{};
   detail::UniformDragInput laneInput{};
   detail::UniformDragSpan spans[64];
+  PosedDragColumns* posed = posedLanes ? &posedDragScratch() : nullptr;
+  if (posed) posed->reset(set.size());
   if (lanes) {
     laneInput = {set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(), set.az.data(), set.area.data(),
-                 set.inverseRadius.data(), spans, 0, {}, {}, {}, {}, {}, *flatLevel, density, friction,
-                 &body.coefficients, linearized};
+                 set.inverseRadius.data(), spans, 0, {}, {}, {}, {}, {}, *flatLevel, law};
     for (int row = 0; row < 3; ++row) {
       for (int col = 0; col < 3; ++col) laneInput.rotation[row][col] = rotation(row, col);
       laneInput.translation[row] = translation[row];
@@ -370,6 +423,10 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
         const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocities[k];
         const Eigen::Vector3d areaVector =
             rotation * Eigen::Vector3d(double(set.ax[patch]), double(set.ay[patch]), double(set.az[patch]));
+        if (posedLanes) {
+          posed->add(r, relative, areaVector, double(set.area[patch]), wetFractions[k]);
+          continue;
+        }
         detail::DragRates<double> rates;
         Eigen::Vector3d normal;
         const Eigen::Vector3d patchForce =
@@ -387,6 +444,12 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
     }
   }
   if (laneInput.spanCount > 0) sumSpans();
+#ifdef HYDROTEX_DOUBLE_LANES
+  if (posed && posed->count() > 0) {
+    const detail::PosedDragInput input = posed->input(law);
+    if (!detail::sumPosedDragAvx2(input, laneSums)) detail::sumPosedDragLanes<detail::DoubleLanes>(input, laneSums);
+  }
+#endif
   for (int k = 0; k < 3; ++k) {
     force[k] += laneSums.force[k];
     torque[k] += laneSums.torque[k];

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Zlib
-/// @file UniformDragAvx2.cpp
-/// UniformDragLanes.hpp's sum four patches at a time in AVX2 registers, with fused multiply-adds.
+/// @file DragLanesAvx2.cpp
+/// DragLanes.hpp's sums four patches at a time in AVX2 registers, with fused multiply-adds.
 /// core/CMakeLists.txt compiles this file alone with -mavx2 -mfma where the compiler takes them;
 /// the processor is asked once, at the first call. Everything this file instantiates depends on
 /// QuadLanes, which has internal linkage, so no AVX2 code can stand in for another unit's
-/// (UniformDragLanes.hpp); `nm` on its object lists no weak symbol from -O1 up (at -O0 GCC adds
+/// (DragLanes.hpp); `nm` on its object lists no weak symbol from -O1 up (at -O0 GCC adds
 /// the empty constructors of Eigen's placeholders `all` and `last`, which hold no vector code).
 
-#include "step/UniformDragLanes.hpp"
+#include "step/DragLanes.hpp"
 
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
@@ -56,14 +56,24 @@ inline QuadLanes positiveMask(QuadLanes x) { return QuadLanes(_mm256_cmp_pd(x.v,
 inline int positiveLanes(QuadLanes x) { return _mm256_movemask_pd(_mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)); }
 inline QuadLanes select(QuadLanes mask, QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_blendv_pd(b.v, a.v, mask.v)); }
 
-}  // namespace
-
-bool sumUniformDragAvx2(const UniformDragInput& in, UniformDragSums& out) {
-  // As the wetting's wide lanes (Wetting.cpp): HYDROTEX_DISABLE_AVX2 keeps the SSE2 ones.
+// As the wetting's wide lanes (Wetting.cpp): HYDROTEX_DISABLE_AVX2 keeps the SSE2 ones.
+bool wideLanes() {
   static const bool supported =
       __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
-  if (!supported) return false;
+  return supported;
+}
+
+}  // namespace
+
+bool sumUniformDragAvx2(const UniformDragInput& in, DragLaneSums& out) {
+  if (!wideLanes()) return false;
   sumUniformDragLanes<QuadLanes>(in, out);
+  return true;
+}
+
+bool sumPosedDragAvx2(const PosedDragInput& in, DragLaneSums& out) {
+  if (!wideLanes()) return false;
+  sumPosedDragLanes<QuadLanes>(in, out);
   return true;
 }
 
@@ -72,7 +82,8 @@ bool sumUniformDragAvx2(const UniformDragInput& in, UniformDragSums& out) {
 #else
 
 namespace hydrotex::detail {
-bool sumUniformDragAvx2(const UniformDragInput&, UniformDragSums&) { return false; }
+bool sumUniformDragAvx2(const UniformDragInput&, DragLaneSums&) { return false; }
+bool sumPosedDragAvx2(const PosedDragInput&, DragLaneSums&) { return false; }
 }  // namespace hydrotex::detail
 
 #endif
