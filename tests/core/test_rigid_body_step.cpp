@@ -526,7 +526,7 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
   // them) against the SSE2 ones: clusters of 1, 3, 5 and 16 patches leave 1 to 3 lanes past a
   // span's end, which must add nothing. Every cluster is handed over as not wholly wet, which
   // changes no ramp (deep patches clamp to 1). Bound: 1e-12 of each sum's scale, the rounding of
-  // a different summation order (and fused multiply-adds) over about a hundred patches.
+  // a different summation order over about a hundred patches.
   const FlatSurface water(0.3, 1000.0);
   std::vector<DragPatch> patches = ringOfPatches();
   patches[5].areaVector.setZero();
@@ -580,7 +580,7 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
       CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
       CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
     } else {
-      WARN("this processor has no AVX2 and FMA (or the library was built without them): SSE2 lanes only");
+      WARN("this processor has no AVX2 (or the library was built without it): SSE2 lanes only");
     }
   }
 }
@@ -590,7 +590,7 @@ TEST_CASE("in a current the drag sum's posed lanes give the patch-by-patch sum, 
   // fractions and the liquid's velocity itself, and the lanes take the law (sumPosedDragLanes).
   // Its answer against the patch-by-patch sum with the public law, then the SSE2 lanes (this
   // test's instantiation) and the AVX2 ones (where the processor has them) on the same posed
-  // patches against it: 1e-12 of each sum's scale (summation order, fused multiply-adds).
+  // patches against it: 1e-12 of each sum's scale (the summation order).
   const FlatSurface water(0.3, 1000.0);
   std::vector<DragPatch> patches = ringOfPatches();
   patches[5].areaVector.setZero();
@@ -652,7 +652,7 @@ TEST_CASE("in a current the drag sum's posed lanes give the patch-by-patch sum, 
     CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
     CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
   } else {
-    WARN("this processor has no AVX2 and FMA (or the library was built without them): SSE2 lanes only");
+    WARN("this processor has no AVX2 (or the library was built without it): SSE2 lanes only");
   }
 }
 

@@ -2,15 +2,16 @@
 #pragma once
 /// @file DragLanes.hpp
 /// rigidBodyDrag's sum over its wet patches several at a time in SIMD lanes: two in SSE2
-/// (DoubleLanes, every x86-64) or four in AVX2 with fused multiply-adds (QuadLanes,
-/// DragLanesAvx2.cpp, chosen at run time where the processor has them). Both run these templates,
+/// (DoubleLanes, every x86-64) or four in AVX2 (QuadLanes, DragLanesAvx2.cpp, chosen at run time
+/// where the processor has it), both without fused multiply-adds: each lane rounds as the scalar
+/// law does. Both run these templates,
 /// so the law and its derivative are written once (TexelDragLaw.hpp). Two kernels: in a still,
 /// flat, uniform liquid the patches are posed and tested wet in the lanes too
 /// (sumUniformDragLanes); in any other liquid with a free surface the caller poses them, asks the
 /// surface their wet fractions and the liquid's velocities, and the lanes take the law
 /// (sumPosedDragLanes).
 ///
-/// The AVX2 translation unit is compiled with -mavx2 -mfma, so it must not emit any function that
+/// The AVX2 translation unit is compiled with -mavx2, so it must not emit any function that
 /// another unit also emits (the linker would keep one copy, perhaps the AVX2 one, for every
 /// caller): the kernels' input and output are plain data with no constructors, and everything
 /// they instantiate depends on the lane type, which has internal linkage there.
@@ -208,7 +209,7 @@ inline void sumPosedDragLanes(const PosedDragInput& in, DragLaneSums& out) {
 }
 
 /// The sums in AVX2 lanes (DragLanesAvx2.cpp) where this library was built with them and the
-/// processor has AVX2 and FMA (and HYDROTEX_DISABLE_AVX2 is not set); false, nothing added,
+/// processor has AVX2 (and HYDROTEX_DISABLE_AVX2 is not set); false, nothing added,
 /// where not.
 bool sumUniformDragAvx2(const UniformDragInput& in, DragLaneSums& out);
 bool sumPosedDragAvx2(const PosedDragInput& in, DragLaneSums& out);
