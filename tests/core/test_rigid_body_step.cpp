@@ -451,6 +451,20 @@ RigidBodyMotion ringMotion() {
   return motion;
 }
 
+/// A drag sum's force or torque (detail::DragLaneSums) as a vector.
+Eigen::Vector3d vector3(const double (&x)[3]) { return {x[0], x[1], x[2]}; }
+
+/// Checks a lane kernel's sums against the expected force and torque (within 1e-12 of `scale`,
+/// N), wetted area (1e-12 relative) and damping (1e-12 of its norm): the rounding of another
+/// summation order over about a hundred patches.
+void checkLaneSums(const detail::DragLaneSums& sums, const Eigen::Vector3d& force, const Eigen::Vector3d& torque,
+                   double wetted, const Eigen::Matrix<double, 6, 6>& damping, double scale) {
+  CHECK((vector3(sums.force) - force).norm() <= 1e-12 * scale);
+  CHECK((vector3(sums.torque) - torque).norm() <= 1e-12 * scale);
+  CHECK(sums.wetted == Approx(wetted).epsilon(1e-12));
+  CHECK((detail::dampingMatrix(sums.damping) - damping).norm() <= 1e-12 * damping.norm());
+}
+
 }  // namespace
 
 TEST_CASE("prepared drag patches give the patch-by-patch sum, dry clusters skipped", "[step][drag]") {
@@ -554,31 +568,18 @@ TEST_CASE("the still-water drag sum's SSE2 and AVX2 lanes give the same sums", "
       input.linear[row] = motion.linearVelocity[row];
       input.angular[row] = motion.angularVelocity[row];
     }
-    detail::DragLaneSums pairs{};
+    detail::DragLaneSums pairs;
     detail::sumUniformDragLanes<detail::DoubleLanes>(input, pairs);
-    const auto vector = [](const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
-    const auto damping = [](const detail::DragLaneSums& sums) {
-      detail::DampingSums<double> d;
-      std::copy(std::begin(sums.outer), std::end(sums.outer), d.outer);
-      d.isotropic = sums.isotropic;
-      std::copy(std::begin(sums.moment), std::end(sums.moment), d.moment);
-      std::copy(std::begin(sums.second), std::end(sums.second), d.second);
-      return detail::dampingMatrix(d);
-    };
     const double scale = loads.force.norm();
     REQUIRE(scale > 1.0);
     CHECK(pairs.visited == loads.patchesVisited);
-    CHECK((vector(pairs.force) - loads.force).norm() <= 1e-12 * scale);
-    CHECK((vector(pairs.torque) - loads.torque).norm() <= 1e-12 * scale);  // no rotational damping
-    CHECK(pairs.wetted == Approx(loads.wettedArea).epsilon(1e-12));
-    CHECK((damping(pairs) - loads.damping).norm() <= 1e-12 * loads.damping.norm());
-    detail::DragLaneSums quads{};
+    // (No rotational damping: rigidBodyDrag's torque is the lanes' alone.)
+    checkLaneSums(pairs, loads.force, loads.torque, loads.wettedArea, loads.damping, scale);
+    detail::DragLaneSums quads;
     if (detail::sumUniformDragAvx2(input, quads)) {
       CHECK(quads.visited == pairs.visited);
-      CHECK((vector(quads.force) - vector(pairs.force)).norm() <= 1e-12 * scale);
-      CHECK((vector(quads.torque) - vector(pairs.torque)).norm() <= 1e-12 * scale);
-      CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
-      CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
+      checkLaneSums(quads, vector3(pairs.force), vector3(pairs.torque), pairs.wetted,
+                    detail::dampingMatrix(pairs.damping), scale);
     } else {
       WARN("this processor has no AVX2 (or the library was built without it): SSE2 lanes only");
     }
@@ -631,26 +632,11 @@ TEST_CASE("in a current the drag sum's posed lanes give the patch-by-patch sum, 
                                      columns[4].data(), columns[5].data(), columns[6].data(), columns[7].data(),
                                      columns[8].data(), columns[9].data(), columns[10].data(), count,
                                      detail::DragLaneLaw{1000.0, friction, &body.coefficients, true}};
-  const auto damping = [](const detail::DragLaneSums& sums) {
-    detail::DampingSums<double> d;
-    std::copy(std::begin(sums.outer), std::end(sums.outer), d.outer);
-    d.isotropic = sums.isotropic;
-    std::copy(std::begin(sums.moment), std::end(sums.moment), d.moment);
-    std::copy(std::begin(sums.second), std::end(sums.second), d.second);
-    return detail::dampingMatrix(d);
-  };
-  const auto vector = [](const double* x) { return Eigen::Vector3d(x[0], x[1], x[2]); };
-  detail::DragLaneSums pairs{}, quads{};
+  detail::DragLaneSums pairs, quads;
   detail::sumPosedDragLanes<detail::DoubleLanes>(input, pairs);
-  CHECK((vector(pairs.force) - force).norm() <= 1e-12 * scale);
-  CHECK((vector(pairs.torque) - torque).norm() <= 1e-12 * scale);
-  CHECK(pairs.wetted == Approx(loads.wettedArea).epsilon(1e-12));
-  CHECK((damping(pairs) - loads.damping).norm() <= 1e-12 * loads.damping.norm());
+  checkLaneSums(pairs, force, torque, loads.wettedArea, loads.damping, scale);
   if (detail::sumPosedDragAvx2(input, quads)) {
-    CHECK((vector(quads.force) - force).norm() <= 1e-12 * scale);
-    CHECK((vector(quads.torque) - torque).norm() <= 1e-12 * scale);
-    CHECK(quads.wetted == Approx(pairs.wetted).epsilon(1e-12));
-    CHECK((damping(quads) - damping(pairs)).norm() <= 1e-12 * loads.damping.norm());
+    checkLaneSums(quads, force, torque, pairs.wetted, detail::dampingMatrix(pairs.damping), scale);
   } else {
     WARN("this processor has no AVX2 (or the library was built without it): SSE2 lanes only");
   }

@@ -71,7 +71,7 @@ inline DoubleLanes clampUnit(DoubleLanes x) {
 /// All bits set in the lanes where x > 0, none elsewhere (for select).
 inline DoubleLanes positiveMask(DoubleLanes x) { return DoubleLanes(_mm_cmpgt_pd(x.v, _mm_setzero_pd())); }
 /// Bit k set where lane k of x is > 0.
-inline int positiveLanes(DoubleLanes x) { return _mm_movemask_pd(_mm_cmpgt_pd(x.v, _mm_setzero_pd())); }
+inline int positiveLanes(DoubleLanes x) { return _mm_movemask_pd(positiveMask(x).v); }
 /// a where `mask` (positiveMask) is set, b elsewhere.
 inline DoubleLanes select(DoubleLanes mask, DoubleLanes a, DoubleLanes b) {
   return DoubleLanes(_mm_or_pd(_mm_and_pd(mask.v, a.v), _mm_andnot_pd(mask.v, b.v)));

@@ -13,8 +13,9 @@
 ///
 /// The AVX2 translation unit is compiled with -mavx2, so it must not emit any function that
 /// another unit also emits (the linker would keep one copy, perhaps the AVX2 one, for every
-/// caller): the kernels' input and output are plain data with no constructors, and everything
-/// they instantiate depends on the lane type, which has internal linkage there.
+/// caller): the kernels' input is plain data, their output (DragLaneSums) is only added to there
+/// (none of its constructors is emitted), and everything they instantiate depends on the lane
+/// type, which has internal linkage there.
 
 #include <cstdint>
 
@@ -59,16 +60,18 @@ struct PosedDragInput {
   DragLaneLaw law;
 };
 
-/// What the kernels add to: the force (N), the torque about the centre of mass (N m), the wetted
-/// area (m^2), DampingSums<double>'s members, and the wet patches visited (the uniform kernel's).
+/// A drag sum's totals, which the kernels add to (and rigidBodyDrag's scalar path too): the force
+/// (N), the torque about the centre of mass (N m), the wetted area (m^2), the damping's sums, and
+/// the wet patches visited. The kernels only add to it: DampingSums<double>'s constructor is
+/// never emitted in the AVX2 unit (see the file comment).
 struct DragLaneSums {
-  double force[3], torque[3], wetted;
-  double outer[21], isotropic, moment[3], second[6];
-  std::uint64_t visited;
+  double force[3] = {0.0, 0.0, 0.0}, torque[3] = {0.0, 0.0, 0.0}, wetted = 0.0;
+  DampingSums<double> damping;
+  std::uint64_t visited = 0;
 };
 
-/// Entries past the last that the kernels' columns hold (zeros), so that a group of lanes may
-/// load past it (those lanes are masked out).
+/// Entries past the last that the kernels' columns must hold (zeros), so that a group of lanes
+/// may load past it (those lanes are masked out): DragPatchSet::kPadding holds at least these.
 inline constexpr std::uint32_t kDragLanePadding = 3;
 
 /// A group of `L::kWidth` patches ready for the law: offset from the centre of mass r (m), relative
@@ -119,10 +122,10 @@ struct DragLaneAccumulator {
     }
     out.wetted += wetted.sum();
     if (!linearized) return;
-    for (int k = 0; k < 21; ++k) out.outer[k] += damping.outer[k].sum();
-    out.isotropic += damping.isotropic.sum();
-    for (int k = 0; k < 3; ++k) out.moment[k] += damping.moment[k].sum();
-    for (int k = 0; k < 6; ++k) out.second[k] += damping.second[k].sum();
+    for (int k = 0; k < 21; ++k) out.damping.outer[k] += damping.outer[k].sum();
+    out.damping.isotropic += damping.isotropic.sum();
+    for (int k = 0; k < 3; ++k) out.damping.moment[k] += damping.moment[k].sum();
+    for (int k = 0; k < 6; ++k) out.damping.second[k] += damping.second[k].sum();
   }
 };
 

@@ -1,22 +1,22 @@
 // SPDX-License-Identifier: Zlib
 /// @file DragLanesAvx2.cpp
-/// DragLanes.hpp's sums four patches at a time in AVX2 registers. Without fused multiply-adds, as
-/// the wetting's AVX2 lanes: with them (-mfma) test_hard_cases' needle, 1 m x 1 mm x 1 mm on the
-/// texture path under double-precision Bullet, spun up to 149 rad/s where its energy bounds it to
-/// 110 (its roll inertia is 8e-11 kg m^2: a rounding-level change of the drag's sums moves its
-/// trajectory), and stayed under the bound with these lanes and with SSE2's.
+/// DragLanes.hpp's sums four patches at a time in AVX2 registers, without fused multiply-adds (as
+/// the wetting's AVX2 lanes): each lane rounds as the scalar law does. With them (-mfma),
+/// test_hard_cases' needle (1 m x 1 mm x 1 mm, texture path, double-precision Bullet) peaked at
+/// 149 rad/s against the test's bound of 110. That needle never settles on the texture path,
+/// with any of the lanes: from t = 9.5 s it rolls at 60-90 rad/s to the end (its roll inertia is
+/// 8e-11 kg m^2), so a rounding-level change of the drag's sums moves its peaks.
 /// core/CMakeLists.txt compiles this file alone with -mavx2 where the compiler takes it;
 /// the processor is asked once, at the first call. Everything this file instantiates depends on
 /// QuadLanes, which has internal linkage, so no AVX2 code can stand in for another unit's
-/// (DragLanes.hpp); `nm` on its object lists no weak symbol from -O1 up (at -O0 GCC adds
+/// (DragLanes.hpp); `nm` on its object lists no weak function from -O1 up (at -O0 GCC adds
 /// the empty constructors of Eigen's placeholders `all` and `last`, which hold no vector code).
 
+#include "Avx2Lanes.hpp"
 #include "step/DragLanes.hpp"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
-
-#include <cstdlib>
 
 namespace hydrotex::detail {
 namespace {
@@ -57,14 +57,14 @@ inline QuadLanes clampUnit(QuadLanes x) {
   return QuadLanes(_mm256_min_pd(_mm256_max_pd(x.v, _mm256_setzero_pd()), _mm256_set1_pd(1.0)));
 }
 inline QuadLanes positiveMask(QuadLanes x) { return QuadLanes(_mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)); }
-inline int positiveLanes(QuadLanes x) { return _mm256_movemask_pd(_mm256_cmp_pd(x.v, _mm256_setzero_pd(), _CMP_GT_OQ)); }
+inline int positiveLanes(QuadLanes x) { return _mm256_movemask_pd(positiveMask(x).v); }
 inline QuadLanes select(QuadLanes mask, QuadLanes a, QuadLanes b) { return QuadLanes(_mm256_blendv_pd(b.v, a.v, mask.v)); }
 
-// As the wetting's wide lanes (Wetting.cpp): HYDROTEX_DISABLE_AVX2 keeps the SSE2 ones.
+// avx2LanesAllowed, asked at the first sum only: the drag runs per body and step, and the
+// environment is a scan of strings.
 bool wideLanes() {
-  static const bool supported =
-      __builtin_cpu_supports("avx2") && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
-  return supported;
+  static const bool allowed = avx2LanesAllowed();
+  return allowed;
 }
 
 }  // namespace

@@ -256,11 +256,11 @@ DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t 
     self(self, middle, end);
   };
   split(split, 0, std::uint32_t(count));
-  // Zeros past the last patch: the sum's lanes may load there (detail::kDragLanePadding).
-  set.count = count;
+  // Zeros past the last patch: the sum's lanes may load there.
+  static_assert(DragPatchSet::kPadding >= detail::kDragLanePadding);
   for (std::vector<float>* column : {&set.x, &set.y, &set.z, &set.ax, &set.ay, &set.az, &set.area, &set.radius})
-    column->resize(count + detail::kDragLanePadding, 0.0f);
-  set.inverseRadius.resize(count + detail::kDragLanePadding, 0.0);
+    column->resize(count + DragPatchSet::kPadding, 0.0f);
+  set.inverseRadius.resize(count + DragPatchSet::kPadding, 0.0);
   for (std::size_t i = 0; i < count; ++i) {
     const DragPatch& patch = patches[order[i]];
     set.x[i] = patch.position.x();
@@ -332,12 +332,10 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   const double highestCrest = waves ? surface.heightRange(liquid.time).second - translation.y() : INFINITY;
   detail::SurfaceHeights heights(surface, liquid.time, waves ? dragFootprint(set, rotation, translation) : detail::Footprint{},
                                  detail::kDragSurfaceHeightError);
-  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
-  double wettedArea = 0.0;
-  std::uint64_t visited = 0;
   // The law's derivative, for the implicit update, when the body asks for it (DragDamping).
   const bool linearized = body.damping == DragDamping::Linearized;
-  detail::DampingSums<double> damping;
+  // The totals, which the lanes and the scalar path below add to.
+  detail::DragLaneSums sums;
   // The law several patches at a time in SIMD lanes (DragLanes.hpp): in a still, flat, uniform
   // liquid the patches are posed and tested wet there too, the spans of the clusters not skipped
   // handed over in batches; in any other liquid with a free surface (one density) they are posed
@@ -349,26 +347,22 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   const bool lanes = false, posedLanes = false;
 #endif
   const detail::DragLaneLaw law{density, friction, &body.coefficients, linearized};
-  detail::DragLaneSums laneSums{};
-  detail::UniformDragInput laneInput{};
   detail::UniformDragSpan spans[64];
+  detail::UniformDragInput laneInput{set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(),
+                                     set.az.data(), set.area.data(), set.inverseRadius.data(), spans, 0,
+                                     {}, {}, {}, {}, {}, flatLevel.value_or(0.0), law};
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) laneInput.rotation[row][col] = rotation(row, col);
+    laneInput.translation[row] = translation[row];
+    laneInput.center[row] = center[row];
+    laneInput.linear[row] = v[row];
+    laneInput.angular[row] = w[row];
+  }
   PosedDragColumns* posed = posedLanes ? &posedDragScratch() : nullptr;
   if (posed) posed->reset(set.size());
-  if (lanes) {
-    laneInput = {set.x.data(), set.y.data(), set.z.data(), set.ax.data(), set.ay.data(), set.az.data(), set.area.data(),
-                 set.inverseRadius.data(), spans, 0, {}, {}, {}, {}, {}, *flatLevel, law};
-    for (int row = 0; row < 3; ++row) {
-      for (int col = 0; col < 3; ++col) laneInput.rotation[row][col] = rotation(row, col);
-      laneInput.translation[row] = translation[row];
-      laneInput.center[row] = center[row];
-      laneInput.linear[row] = v[row];
-      laneInput.angular[row] = w[row];
-    }
-  }
   const auto sumSpans = [&] {
 #ifdef HYDROTEX_DOUBLE_LANES
-    if (!detail::sumUniformDragAvx2(laneInput, laneSums))
-      detail::sumUniformDragLanes<detail::DoubleLanes>(laneInput, laneSums);
+    if (!detail::sumUniformDragAvx2(laneInput, sums)) detail::sumUniformDragLanes<detail::DoubleLanes>(laneInput, sums);
 #endif
     laneInput.spanCount = 0;
   };
@@ -406,7 +400,7 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
         indices[count] = i;
         ++count;
       }
-      visited += count;
+      sums.visited += count;
       if (still) {
         for (std::uint32_t k = 0; k < count; ++k) liquidVelocities[k] = liquid.current;
       } else if (freeSurface) {  // not wholly wet (that needs a still liquid): every level was asked
@@ -435,11 +429,14 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
                                                    body.coefficients, linearized ? &rates : nullptr, &normal);
         if (linearized) {
           const double n[3] = {normal.x(), normal.y(), normal.z()}, rp[3] = {r.x(), r.y(), r.z()};
-          detail::addDragDamping(damping, n, rp, rates, wetFractions[k]);
+          detail::addDragDamping(sums.damping, n, rp, rates, wetFractions[k]);
         }
-        force += patchForce;
-        torque += r.cross(patchForce);
-        wettedArea += wetFractions[k] * double(set.area[patch]);
+        const Eigen::Vector3d patchTorque = r.cross(patchForce);
+        for (int c = 0; c < 3; ++c) {
+          sums.force[c] += patchForce[c];
+          sums.torque[c] += patchTorque[c];
+        }
+        sums.wetted += wetFractions[k] * double(set.area[patch]);
       }
     }
   }
@@ -447,24 +444,14 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
 #ifdef HYDROTEX_DOUBLE_LANES
   if (posed && posed->count() > 0) {
     const detail::PosedDragInput input = posed->input(law);
-    if (!detail::sumPosedDragAvx2(input, laneSums)) detail::sumPosedDragLanes<detail::DoubleLanes>(input, laneSums);
+    if (!detail::sumPosedDragAvx2(input, sums)) detail::sumPosedDragLanes<detail::DoubleLanes>(input, sums);
   }
 #endif
-  for (int k = 0; k < 3; ++k) {
-    force[k] += laneSums.force[k];
-    torque[k] += laneSums.torque[k];
-  }
-  wettedArea += laneSums.wetted;
-  visited += laneSums.visited;
-  for (int k = 0; k < 21; ++k) damping.outer[k] += laneSums.outer[k];
-  damping.isotropic += laneSums.isotropic;
-  for (int k = 0; k < 3; ++k) damping.moment[k] += laneSums.moment[k];
-  for (int k = 0; k < 6; ++k) damping.second[k] += laneSums.second[k];
-  out.force = force;
-  out.torque = torque;
-  out.patchesVisited = visited;
-  out.wettedArea = wettedArea;
-  if (linearized) out.damping = detail::dampingMatrix(damping);
+  out.force = Eigen::Vector3d(sums.force[0], sums.force[1], sums.force[2]);
+  out.torque = Eigen::Vector3d(sums.torque[0], sums.torque[1], sums.torque[2]);
+  out.patchesVisited = sums.visited;
+  out.wettedArea = sums.wetted;
+  if (linearized) out.damping = detail::dampingMatrix(sums.damping);
   if (body.totalPatchArea > 0.0 && body.rotationalDamping > 0.0) {
     const double wetted = out.wettedArea / body.totalPatchArea;
     out.torque -= body.rotationalDamping * wetted * (motion.inertiaWorld * w);

@@ -27,13 +27,14 @@
 #include <cmath>
 #include <limits>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <string>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+
+#include "Avx2Lanes.hpp"
 
 namespace hydrotex {
 
@@ -49,17 +50,9 @@ double saturationVapourPressure(double kelvin) {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
 
-// Whether the exchange and the sweep run eight lanes: the processor has AVX2 and
-// HYDROTEX_DISABLE_AVX2 is not set (read once per pass, so that a test can compare both widths in
-// one process).
-bool wideLanes() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool hasAvx2 = __builtin_cpu_supports("avx2");
-  return hasAvx2 && std::getenv("HYDROTEX_DISABLE_AVX2") == nullptr;
-#else
-  return false;
-#endif
-}
+// Whether the exchange and the sweep run eight lanes (avx2LanesAllowed, asked once per pass, so
+// that a test can compare both widths in one process).
+bool wideLanes() { return detail::avx2LanesAllowed(); }
 
 // Texels a lane block at a time in GCC/Clang vector extensions: four (SSE2 on x86-64, NEON on
 // ARM) everywhere, eight in the exchange pass and the diffusion sweep where the processor has

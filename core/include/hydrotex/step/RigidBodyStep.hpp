@@ -56,15 +56,16 @@ struct DragPatchSet {
     double radius = 0.0;
     std::uint32_t begin = 0, end = 0;
   };
-  /// The columns hold size() patches and then a few zeros, so that the sum's SIMD lanes may load
-  /// past the last patch.
+  /// The columns hold size() patches and then kPadding zeros, so that the sum's SIMD lanes may
+  /// load past the last patch.
+  static constexpr std::size_t kPadding = 3;
   std::vector<float> x, y, z;               ///< centroid (m, mesh frame), as DragPatch::position
   std::vector<float> ax, ay, az;            ///< area vector (m^2, mesh frame), as DragPatch::areaVector
   std::vector<float> area, radius;          ///< m^2 and m, as DragPatch
   std::vector<double> inverseRadius;        ///< 1 / max(radius, 1e-9) (1/m): the wet ramp's slope, once
   std::vector<Cluster> clusters;            ///< covering every patch once, in order
-  std::size_t count = 0;                    ///< patches
-  std::size_t size() const { return count; }
+  /// Patches.
+  std::size_t size() const { return x.size() > kPadding ? x.size() - kPadding : 0; }
   std::size_t memoryBytes() const;          ///< heap held
 };
 
