@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 #include <span>
 #include <string>
@@ -169,6 +170,66 @@ TEST_CASE("Gerstner velocities for a batch of points are velocityBelow's, phases
   const FlatSurface still(0.0);
   still.velocitiesBelow(std::span(points).first(3), std::span(heights).first(3), t, untouched);
   CHECK(untouched[0].isZero(0.0));
+}
+
+TEST_CASE("Gerstner heights and jets for a batch are surfaceHeight's and heightJet's, each search started from the last", "[liquid][gerstner]") {
+  // Steep waves (sum Q k A ~ 0.72, the searches take the most steps) and points in a walk that
+  // keeps neighbours 1 to 9 cm apart (warm starts with turned phases), jumps of metres (turns
+  // over kRotationLimit: sin and cos), a point that is not a number (the next one starts afresh),
+  // and more than kFreshPhases points. Each answer is within sum(k A) times the search's horizontal
+  // tolerance of the true height (LiquidSurface.hpp), so two answers within twice that; slopes and
+  // curvatures move with the rest point by at most the height's third and fourth derivative bounds
+  // (smoothness(): ~3 and ~15 here) times that tolerance, checked against 1e-6.
+  const GerstnerWaves sea(threeWaves(0.8), 0.2);
+  double sumKA = 0.0;
+  for (const GerstnerWaves::Component& c : sea.components()) sumKA += c.waveNumber * c.amplitude;
+  const double t = 2.1;
+  std::vector<double> x, z;
+  double px = -1.0, pz = 0.5;
+  for (int i = 0; i < 150; ++i) {
+    const double step = i % 37 == 36 ? 4.0 : 0.01 + 0.08 * (i % 5) / 4.0;
+    px += step * std::cos(0.4 * i);
+    pz += step * std::sin(0.3 * i);
+    x.push_back(px);
+    z.push_back(i == 70 ? std::nan("") : pz);
+  }
+  std::vector<double> heights(x.size(), 7.0);
+  std::vector<std::optional<SurfaceJet>> jets(x.size());
+  sea.surfaceHeights(x, z, t, heights);
+  sea.heightJets(x, z, t, jets);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    CAPTURE(i, x[i], z[i]);
+    const double one = sea.surfaceHeight(x[i], z[i], t);
+    const std::optional<SurfaceJet> jet = sea.heightJet(x[i], z[i], t);
+    if (std::isnan(z[i])) {
+      CHECK(std::isnan(heights[i]));
+      CHECK((!jets[i] || std::isnan(jets[i]->height)));
+      continue;
+    }
+    CHECK(std::abs(heights[i] - one) <= 2.0 * sumKA * GerstnerWaves::kHorizontalTolerance);
+    REQUIRE(jet);
+    REQUIRE(jets[i]);
+    CHECK(std::abs(jets[i]->height - jet->height) <= 2.0 * sumKA * GerstnerWaves::kJetHorizontalTolerance);
+    CHECK(jets[i]->slopeX == Approx(jet->slopeX).margin(1e-6));
+    CHECK(jets[i]->slopeZ == Approx(jet->slopeZ).margin(1e-6));
+    CHECK(jets[i]->curvatureXX == Approx(jet->curvatureXX).margin(1e-6));
+    CHECK(jets[i]->curvatureXZ == Approx(jet->curvatureXZ).margin(1e-6));
+    CHECK(jets[i]->curvatureZZ == Approx(jet->curvatureZZ).margin(1e-6));
+  }
+  // Spans of unequal sizes: nothing written.
+  std::vector<double> untouched(3, 7.0);
+  sea.surfaceHeights(std::span(x).first(3), std::span(z).first(2), t, untouched);
+  CHECK(untouched[0] == 7.0);
+  // The default asks surfaceHeight() and heightJet() per point: a height grid's bilinear values,
+  // and no jets.
+  HeightGrid grid(3, 3, 1.0, 0.0, 0.0, 0.0);
+  grid.heights()[4] = 0.5;
+  const std::vector<double> gx = {0.5, 1.0, 1.7}, gz = {0.5, 1.0, 0.2};
+  grid.surfaceHeights(gx, gz, 0.0, untouched);
+  for (std::size_t i = 0; i < gx.size(); ++i) CHECK(untouched[i] == grid.surfaceHeight(gx[i], gz[i], 0.0));
+  std::vector<std::optional<SurfaceJet>> none(3, SurfaceJet{});
+  grid.heightJets(gx, gz, 0.0, none);
+  for (const std::optional<SurfaceJet>& jet : none) CHECK_FALSE(jet);
 }
 
 TEST_CASE("Height grid interpolates bilinearly and clamps outside", "[liquid][grid]") {

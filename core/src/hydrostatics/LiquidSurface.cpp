@@ -35,6 +35,12 @@ void LiquidSurface::velocitiesBelow(std::span<const Eigen::Vector3d> points, std
   for (std::size_t i = 0; i < points.size(); ++i) out[i] = velocityBelow(points[i], surfaceHeights[i], time);
 }
 
+void LiquidSurface::surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
+                                   std::span<double> out) const {
+  if (z.size() != x.size() || out.size() != x.size()) return;
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] = surfaceHeight(x[i], z[i], time);
+}
+
 double LiquidSurface::pressure(const Eigen::Vector3d& worldPoint, double time, double gravity) const {
   // Hydrostatic pressure under the local free surface: p = rho g (h - y), 0 above it.
   const double depth = surfaceHeight(worldPoint.x(), worldPoint.z(), time) - worldPoint.y();
@@ -49,6 +55,12 @@ double LiquidSurface::densityAt(const Eigen::Vector3d& /*worldPoint*/) const { r
 
 std::optional<SurfaceJet> LiquidSurface::heightJet(double /*x*/, double /*z*/, double /*time*/) const {
   return std::nullopt;
+}
+
+void LiquidSurface::heightJets(std::span<const double> x, std::span<const double> z, double time,
+                               std::span<std::optional<SurfaceJet>> out) const {
+  if (z.size() != x.size() || out.size() != x.size()) return;
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] = heightJet(x[i], z[i], time);
 }
 
 std::optional<SurfaceSmoothness> LiquidSurface::smoothness(double /*time*/) const { return std::nullopt; }
@@ -113,19 +125,29 @@ double GerstnerWaves::surfaceHeight(double x, double z, double time) const {
 }
 
 namespace {
-// sin and cos of a small angle |a| <= kRotationLimit by their Taylor series to a^13 and a^12
-// (truncation under 1e-15): a Newton step moves each phase by little, so the search for a jet
-// turns the last sines and cosines by the step instead of calling sin and cos again.
+// sin and cos of a small angle |a| <= kRotationLimit by their Taylor series, cut where the first
+// term left out is under 1e-17 (a tenth of an ulp of 1): to a^13 and a^12 up to 0.5 rad, to a^5
+// and a^6 under 0.01 rad, to a^3 and a^4 under 0.001 rad. A Newton step moves each phase by
+// little, so the search turns the last sines and cosines by the step instead of calling sin and
+// cos again, and its last steps (micrometres) need the shortest series.
 constexpr double kRotationLimit = 0.5;
 void smallSineCosine(double a, double& sine, double& cosine) {
   const double a2 = a * a;
-  sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 + a2 * (-1.0 / 39916800 + a2 / 6227020800.0))))));
-  cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600.0)))));
+  if (a2 < 1e-3 * 1e-3) {  // a^5 / 120 < 8.4e-18, a^6 / 720 < 1.4e-21
+    sine = a * (1.0 + a2 * (-1.0 / 6));
+    cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24));
+  } else if (a2 < 0.01 * 0.01) {  // a^7 / 5040 < 2e-18, a^8 / 40320 < 2.5e-21
+    sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120)));
+    cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720)));
+  } else {
+    sine = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 + a2 * (-1.0 / 39916800 + a2 / 6227020800.0))))));
+    cosine = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600.0)))));
+  }
 }
 }  // namespace
 
 GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
-                                                  bool turnPhases, bool extrapolate) const {
+                                                  bool turnPhases, bool extrapolate, const RestPoint* start) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
@@ -134,16 +156,40 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
   constexpr int kMaxIterations = 24;
   constexpr double kMinDeterminant = 0.1;
   RestPoint p{};
+  p.x = x;
+  p.z = z;
   p.x0 = x;
   p.z0 = z;
   turnPhases = turnPhases && components_.size() <= kCachedWaves;
+  // Started from a nearby point's answer: its rest point moved by its Jacobian's inverse times
+  // the move of the point asked (X(x0) = x to first order), and its phases turned from where they
+  // were evaluated. Else from the point itself (a rest point moves at most sum Q A from it).
+  const bool warm = turnPhases && start != nullptr;
+  if (warm) {
+    p = *start;
+    p.x = x;
+    p.z = z;
+    const double dx = x - start->x, dz = z - start->z;
+    const double determinant = start->jxx * start->jzz - start->jxz * start->jxz;
+    if (determinant > kMinDeterminant) {
+      p.x0 = start->x0 + (start->jzz * dx - start->jxz * dz) / determinant;
+      p.z0 = start->z0 + (start->jxx * dz - start->jxz * dx) / determinant;
+    } else {
+      p.x0 = start->x0 + dx;
+      p.z0 = start->z0 + dz;
+    }
+  }
   double stepX = 0.0, stepZ = 0.0;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
+    // The move of the rest point since the phases were last evaluated: the last step, or from
+    // the start's evaluated rest point.
+    const double moveX = iteration > 0 ? -stepX : p.x0 - p.ex, moveZ = iteration > 0 ? -stepZ : p.z0 - p.ez;
+    const bool turnable = turnPhases && (iteration > 0 || warm);
     for (std::size_t w = 0; w < components_.size(); ++w) {
       const Component& c = components_[w];
       double sine, cosine;
-      const double turn = iteration > 0 && turnPhases ? -c.waveNumber * (c.dirX * stepX + c.dirZ * stepZ) : INFINITY;
+      const double turn = turnable ? c.waveNumber * (c.dirX * moveX + c.dirZ * moveZ) : INFINITY;
       if (std::abs(turn) <= kRotationLimit) {
         double s, co;
         smallSineCosine(turn, s, co);
@@ -170,6 +216,8 @@ GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double tim
       gx += rise * c.dirX;
       gz += rise * c.dirZ;
     }
+    p.ex = p.x0;
+    p.ez = p.z0;
     p.height = meanLevel_ + height;
     p.jxx = jxx;
     p.jxz = jxz;
@@ -203,7 +251,32 @@ std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double ti
   // eta(x) = eta0(x0(x)) with X(x0) = x0 + H(x0) = x. With J = dX/dx0 (symmetric) and
   // g0 = d eta0 / dx0: grad eta = J^-1 g0; differentiating J dx0/dx = I once more gives
   // Hess eta = sum over waves of (-A k^2 cos - Q A k^2 sin (grad eta . d)) e e^T, e = J^-1 d.
-  const RestPoint p = restPoint(x, z, time, kJetHorizontalTolerance, true);
+  return jetAt(restPoint(x, z, time, kJetHorizontalTolerance, true), time);
+}
+
+void GerstnerWaves::heightJets(std::span<const double> x, std::span<const double> z, double time,
+                               std::span<std::optional<SurfaceJet>> out) const {
+  if (z.size() != x.size() || out.size() != x.size()) return;
+  RestPoint last{};
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const bool fresh = i % kFreshPhases == 0 || !std::isfinite(last.x0 + last.z0);
+    last = restPoint(x[i], z[i], time, kJetHorizontalTolerance, true, false, fresh ? nullptr : &last);
+    out[i] = jetAt(last, time);
+  }
+}
+
+void GerstnerWaves::surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
+                                   std::span<double> out) const {
+  if (z.size() != x.size() || out.size() != x.size()) return;
+  RestPoint last{};
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const bool fresh = i % kFreshPhases == 0 || !std::isfinite(last.x0 + last.z0);
+    last = restPoint(x[i], z[i], time, kHorizontalTolerance, true, true, fresh ? nullptr : &last);
+    out[i] = last.height;
+  }
+}
+
+std::optional<SurfaceJet> GerstnerWaves::jetAt(const RestPoint& p, double time) const {
   SurfaceJet jet;
   jet.height = p.height;
   const double determinant = p.jxx * p.jzz - p.jxz * p.jxz;

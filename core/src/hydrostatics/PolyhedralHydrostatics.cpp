@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -219,6 +220,30 @@ std::vector<SurfaceVertex>& surfaceVertexScratch() {
   return scratch;
 }
 
+/// The vertices whose surface height a query asks, with their world (x, z) (m) and, once asked,
+/// the height (m): columns, so that the surface takes them in one call.
+struct HeightRequests {
+  std::vector<std::uint32_t> vertex;
+  std::vector<double> x, z, height;
+  std::size_t size() const { return vertex.size(); }
+  void clear() {
+    vertex.clear();
+    x.clear();
+    z.clear();
+  }
+  void add(std::uint32_t v, double worldX, double worldZ) {
+    vertex.push_back(v);
+    x.push_back(worldX);
+    z.push_back(worldZ);
+    height.resize(vertex.size());
+  }
+};
+
+HeightRequests& heightRequestScratch() {
+  thread_local HeightRequests scratch;
+  return scratch;
+}
+
 bool indicesInRange(const Mesh& mesh) {
   const auto count = static_cast<unsigned>(mesh.positions.size());
   for (const Eigen::Vector3i& t : mesh.triangles)
@@ -388,25 +413,39 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
       vertices[v] = {w.x(), w.y(), w.z(), std::numeric_limits<double>::quiet_NaN()};
       footprint.add(w.x() + origin.x(), w.z() + origin.z());
     }
-    // The heights from jets over the footprint where that takes fewer surface samples than the
-    // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
-    detail::SurfaceHeights heights(surface, query.time, footprint, kExactWaveHeightError, double(positions.size()));
+    // The vertices of the triangles that may be wet (one under the highest crest), in the mesh's
+    // order, asked the surface at once: a surface may start each search from the last vertex's
+    // answer (waves), and the mesh's order keeps most neighbours near each other.
+    HeightRequests& requests = heightRequestScratch();
+    requests.clear();
     for (const Eigen::Vector3i& t : mesh.triangles) {
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
       if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
       for (int c = 0; c < 3; ++c) {
         SurfaceVertex& vertex = vertices[t[c]];
-        if (!std::isnan(vertex.depth)) continue;
+        if (vertex.depth == 0.0) continue;  // already requested (NaN until then)
         if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
           return Error{"exact hydrostatics: vertex " + std::to_string(t[c]) + " of the mesh is not finite"};
-        const double x = vertex.x + origin.x(), z = vertex.z + origin.z();
-        const double height = heights.at(x, z);
-        if (!std::isfinite(height))
-          return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
-                       " m) at (x, z) = (" + std::to_string(x) + ", " + std::to_string(z) + ") m, above vertex " +
-                       std::to_string(t[c])};
-        vertex.depth = (height - origin.y()) - vertex.y;
+        vertex.depth = 0.0;
+        requests.add(std::uint32_t(t[c]), vertex.x + origin.x(), vertex.z + origin.z());
       }
+    }
+    // The heights from jets over the footprint where that takes fewer surface samples than the
+    // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
+    detail::SurfaceHeights heights(surface, query.time, footprint, kExactWaveHeightError, double(requests.size()));
+    heights.at(requests.x, requests.z, requests.height);
+    for (std::size_t r = 0; r < requests.size(); ++r) {
+      const double height = requests.height[r];
+      if (!std::isfinite(height))
+        return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
+                     " m) at (x, z) = (" + std::to_string(requests.x[r]) + ", " + std::to_string(requests.z[r]) +
+                     ") m, above vertex " + std::to_string(requests.vertex[r])};
+      SurfaceVertex& vertex = vertices[requests.vertex[r]];
+      vertex.depth = (height - origin.y()) - vertex.y;
+    }
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
+      if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
       addClippedWetTriangle(sums, p);
     }
     const double rhoG = surface.density() * query.gravity;

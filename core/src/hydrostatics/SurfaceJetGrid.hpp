@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <span>
 
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 
@@ -131,15 +132,40 @@ class SurfaceJetGrid {
   // The sample (i, j), evaluated on first use; nullptr when the surface gives no jet there.
   const Node* node(int i, int j) {
     const int index = j * sideX_ + i;
-    if (state_[std::size_t(index)] == 0) {
-      const std::optional<SurfaceJet> jet =
-          surface_.heightJet(originX_ + lowX_ + i * spacing_, originZ_ + lowZ_ + j * spacing_, time_);
+    if (state_[std::size_t(index)] == 0) sampleBlock(i, j);
+    return state_[std::size_t(index)] == 1 ? &nodes_[std::size_t(index)] : nullptr;
+  }
+
+  // Samples the unsampled nodes of the kBlock x kBlock block holding (i, j) in one call of
+  // LiquidSurface::heightJets, in alternating row directions so that each node is next to the one
+  // before it (waves start each search from the last one's rest point: ~0.65 of heightJet()'s time
+  // per node). Blocks of 2: on bench_peers' box on three waves drag's grid samples 36 nodes where
+  // single nodes took 30, and its drag takes 11.2 us against 11.4 (blocks of 4: 64 nodes, 14.8 us).
+  static constexpr int kBlock = 2;
+  void sampleBlock(int i, int j) {
+    const int i0 = i - i % kBlock, j0 = j - j % kBlock;
+    const int i1 = std::min(i0 + kBlock, sideX_), j1 = std::min(j0 + kBlock, sideZ_);
+    double xs[kBlock * kBlock], zs[kBlock * kBlock];
+    int indices[kBlock * kBlock];
+    std::optional<SurfaceJet> jets[kBlock * kBlock];
+    std::size_t count = 0;
+    for (int b = j0; b < j1; ++b)
+      for (int c = 0; c < i1 - i0; ++c) {
+        const int a = (b - j0) % 2 == 0 ? i0 + c : i1 - 1 - c;
+        const int index = b * sideX_ + a;
+        if (state_[std::size_t(index)] != 0) continue;
+        xs[count] = originX_ + lowX_ + a * spacing_;
+        zs[count] = originZ_ + lowZ_ + b * spacing_;
+        indices[count++] = index;
+      }
+    surface_.heightJets(std::span(xs, count), std::span(zs, count), time_, std::span(jets, count));
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::optional<SurfaceJet>& jet = jets[k];
       const bool usable = jet && std::isfinite(jet->height) && std::isfinite(jet->slopeX) &&
                           std::isfinite(jet->slopeZ) && std::isfinite(jet->curvatureXZ);
-      if (usable) nodes_[std::size_t(index)] = Node{jet->height, jet->slopeX, jet->slopeZ, jet->curvatureXZ};
-      state_[std::size_t(index)] = usable ? 1 : 2;
+      if (usable) nodes_[std::size_t(indices[k])] = Node{jet->height, jet->slopeX, jet->slopeZ, jet->curvatureXZ};
+      state_[std::size_t(indices[k])] = usable ? 1 : 2;
     }
-    return state_[std::size_t(index)] == 1 ? &nodes_[std::size_t(index)] : nullptr;
   }
 
   static void hermite(double t, double (&b)[4][3]) {
@@ -227,6 +253,16 @@ class SurfaceHeights {
     double height;
     if (grid_ && grid_->height(x - originX_, z - originZ_, height)) return height;
     return surface_.surfaceHeight(x, z, time_);
+  }
+
+  /// at() for each world point (x[i], z[i]) into `out` (same sizes): asked of the surface in one
+  /// call (LiquidSurface::surfaceHeights) when not interpolated.
+  void at(std::span<const double> x, std::span<const double> z, std::span<double> out) {
+    if (!grid_) {
+      surface_.surfaceHeights(x, z, time_, out);
+      return;
+    }
+    for (std::size_t i = 0; i < x.size() && i < z.size() && i < out.size(); ++i) out[i] = at(x[i], z[i]);
   }
 
  private:

@@ -47,6 +47,15 @@ class LiquidSurface {
   /// without a free surface (hasFreeSurface() == false) returns +infinity.
   virtual double surfaceHeight(double x, double z, double time) const = 0;
 
+  /// surfaceHeight() above each world point (x[i], z[i]) at `time` (s), into `out` (same size): a
+  /// surface may start each point from the one before it (waves: the rest point's search starts
+  /// from the last point's answer, its phases turned instead of sin and cos called), so points
+  /// ordered with neighbours near each other cost least. Within the surface's own tolerance of
+  /// surfaceHeight() (waves: sum(k A) * kHorizontalTolerance). Default: surfaceHeight() per point.
+  /// Spans of unequal sizes: nothing.
+  virtual void surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
+                              std::span<double> out) const;
+
   /// Velocity of the liquid (m/s, world) at a world point and time. Default: at rest.
   virtual Eigen::Vector3d velocity(const Eigen::Vector3d& worldPoint, double time) const;
   /// velocity(worldPoint, time) for a caller that already holds surfaceHeight(x, z, time) above
@@ -86,6 +95,12 @@ class LiquidSurface {
   /// Height, slopes and curvatures (see SurfaceJet) at the world point (x, z) at `time` (s); empty
   /// when the surface does not offer them (then the texture path asks surfaceHeight per texel).
   virtual std::optional<SurfaceJet> heightJet(double x, double z, double time) const;
+  /// heightJet() at each world point (x[i], z[i]) at `time` (s), into `out` (same size), each point
+  /// started from the one before it as in surfaceHeights() (waves: within sum(k A) times their
+  /// kJetHorizontalTolerance of heightJet()). Default: heightJet() per point. Spans of unequal
+  /// sizes: nothing.
+  virtual void heightJets(std::span<const double> x, std::span<const double> z, double time,
+                          std::span<std::optional<SurfaceJet>> out) const;
 
   /// Derivative bounds of surfaceHeight at `time` (s) (see SurfaceSmoothness); empty when the
   /// surface has none (not smooth, or unknown). Needed beside heightJet for the tile hierarchy.
@@ -154,12 +169,21 @@ class GerstnerWaves final : public LiquidSurface {
 
   /// Surface height (m) above (x, z) at `time` (s).
   double surfaceHeight(double x, double z, double time) const override;
+  /// surfaceHeight() per point, each search started from the last point's rest point (predicted
+  /// by its Jacobian) with its phases turned by the small move (Taylor series) where the turn is
+  /// under half a radian, sin and cos called where it is not and at every kFreshPhases-th point
+  /// (so that rounding cannot accumulate along a long chain). Same tolerance as surfaceHeight().
+  void surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
+                      std::span<double> out) const override;
   /// {mean - sum A, mean + sum A} (m).
   std::pair<double, double> heightRange(double time) const override;
   /// Height, slopes and curvatures above (x, z) (m, 1, 1/m): the rest point by the same search as
   /// surfaceHeight() to kJetHorizontalTolerance, then implicit differentiation of the
   /// displacement map.
   std::optional<SurfaceJet> heightJet(double x, double z, double time) const override;
+  /// heightJet() per point, each search started from the last as in surfaceHeights().
+  void heightJets(std::span<const double> x, std::span<const double> z, double time,
+                  std::span<std::optional<SurfaceJet>> out) const override;
   /// Bounds of the third and fourth directional derivatives of the height (1/m^2, 1/m^3) from
   /// sums of A k^n and Q A k^n over the waves; empty when sum Q k A >= 1 (crests may loop).
   std::optional<SurfaceSmoothness> smoothness(double time) const override;
@@ -199,18 +223,25 @@ class GerstnerWaves final : public LiquidSurface {
   // The rest point whose displaced position lies above (x, z), with what the last Newton step
   // evaluated there: the height, the Jacobian J of the displacement map and the gradient of the
   // height in rest coordinates; and the phases' sines and cosines for the first kCachedWaves waves.
+  // (x, z): the point asked; (ex, ez): the rest point last evaluated, where the Jacobian, the
+  // gradient and the phases were taken (x0, z0 may be a step past it).
   static constexpr std::size_t kCachedWaves = 8;
   struct RestPoint {
-    double x0, z0, height, jxx, jxz, jzz, gx, gz;
+    double x, z, x0, z0, ex, ez, height, jxx, jxz, jzz, gx, gz;
     double sine[kCachedWaves], cosine[kCachedWaves];
   };
+  // A batch calls sin and cos afresh at every kFreshPhases-th point.
+  static constexpr std::size_t kFreshPhases = 32;
   // turnPhases: after the first evaluation, turn the sines and cosines by each step instead of
   // calling sin and cos (~1e-16 apart; heightJet and surfaceHeight both turn them).
   // extrapolate (surfaceHeight): a Newton step under extrapolationStep_ is taken without a new
   // evaluation, the height moved along it by its gradient (the Jacobian, gradient and phases
   // stay those of the last evaluated point, which heightJet needs and so never extrapolates).
+  // start (turnPhases only): the last nearby point's answer at the same time, to start from.
   RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
-                      bool turnPhases = false, bool extrapolate = false) const;
+                      bool turnPhases = false, bool extrapolate = false, const RestPoint* start = nullptr) const;
+  // heightJet()'s implicit differentiation at a rest point found to kJetHorizontalTolerance.
+  std::optional<SurfaceJet> jetAt(const RestPoint& p, double time) const;
 
   // S_n = sum |A| k^n and K_n = sum Q |A| k^n for n = 1..4 (index 0 unused): the bounds of the
   // height's and the displacement's derivatives (smoothness(), the Newton search's step bound).
