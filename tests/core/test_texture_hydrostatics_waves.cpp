@@ -14,6 +14,7 @@
 
 #include "hydrostatics/HydrostaticSums.hpp"  // private to core (core/src): the moment corrections
 #include "hydrostatics/SurfaceJetGrid.hpp"  // private to core (core/src), for its error bounds
+#include "hydrostatics/WaveTexelLanes.hpp"  // private to core (core/src): the texels in SIMD lanes
 #include "RandomRotation.hpp"
 #include "TestSurfaces.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
@@ -419,4 +420,102 @@ TEST_CASE("Waves: the hierarchy's settings are checked", "[hydrostatics][texture
   CHECK_FALSE(TextureHydrostatics::build(*bake, textures, settings).ok());
   settings.surfaceModelTolerance = 1e-3;
   CHECK(TextureHydrostatics::build(*bake, textures, settings).ok());
+}
+
+TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by-texel sums", "[texture][waves][lanes]") {
+  // Random texels about a waterline under a tilted pose and a curved model: wholly under, wholly
+  // over, crossing, and edge-on ones (one edge horizontal: waterlineFractions' 1-D case), some
+  // with a moment correction (the lanes leave those to the caller), in tiles of 1 to 11 texels
+  // (the last group of lanes overlaps the one before it; a tile smaller than the lanes is the
+  // caller's). The reference is the scalar code's per texel (waterlineFractions, addElement);
+  // the lanes compute the same per texel, so only the order of the sums differs: 1e-12 of a
+  // bound of the terms' sizes. The SSE2 lanes (this test's instantiation) and the AVX2 ones where present.
+  using Texel = TextureHydrostatics::Texel;
+  using Correction = TextureHydrostatics::MomentCorrection;
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.5, 1.0).normalized())).toRotationMatrix();
+  const Eigen::Vector3d offset(0.1, -0.05, 0.2);
+  const double centerX = 0.05, centerZ = -0.1, h = 0.02, slopeX = 0.08, slopeZ = -0.05, cxx = 0.3, cxz = -0.1, czz = 0.2;
+  int crossing = 0, edgeOn = 0, checkedTiles = 0;
+  for (std::uint32_t size = 1; size <= 11; ++size) {
+    for (int trial = 0; trial < 20; ++trial) {
+      // Two texels of padding before the tile: the lanes must read only [begin, end).
+      std::vector<Texel> texels(size + 2);
+      for (Texel& t : texels) {
+        for (int k = 0; k < 3; ++k) {
+          t.position[k] = float(0.12 * unit(rng));
+          t.areaVector[k] = float(0.002 * unit(rng));
+          t.edgeU[k] = float(0.04 * unit(rng));
+          t.edgeV[k] = float(0.04 * unit(rng));
+        }
+        t.area = float(0.003 * (1.5 + unit(rng)));
+        if (unit(rng) > 0.6) {  // edge-on: the posed v edge horizontal (R^T e_y . eV = 0)
+          const Eigen::Vector3d up = r.row(1).transpose();
+          Eigen::Vector3d v(t.edgeV[0], t.edgeV[1], t.edgeV[2]);
+          v -= up * up.dot(v);
+          for (int k = 0; k < 3; ++k) t.edgeV[k] = float(v[k]);
+        }
+      }
+      std::vector<Correction> corrections;
+      for (std::uint32_t i = 2; i < size + 2; ++i)
+        if (unit(rng) > 0.7) corrections.push_back(Correction{i, {}, 0.01f});
+      detail::WaveTexelInput in{texels.data(), 2, size + 2, corrections.data(), std::uint32_t(corrections.size()),
+                                {r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)},
+                                {offset.x(), offset.y(), offset.z()}, centerX, centerZ, h, slopeX, slopeZ, cxx, cxz, czz};
+      detail::WettedSums pairs;
+      const std::uint32_t reached = detail::sumWaveTexelLanes<detail::DoubleLanes>(in, pairs);
+      CHECK(reached == (size < 2 ? 2u : size + 2));
+      // The reference over the texels the lanes took.
+      detail::WettedSums reference;
+      double scale = 0.0;
+      std::size_t c = 0;
+      for (std::uint32_t i = 2; i < reached; ++i) {
+        while (c < corrections.size() && corrections[c].texel < i) ++c;
+        if (c < corrections.size() && corrections[c].texel == i) continue;
+        const Texel& t = texels[i];
+        const Eigen::Vector3d p(t.position[0], t.position[1], t.position[2]);
+        const Eigen::Vector3d x = r * p + offset;
+        const double a = r.row(1).dot(Eigen::Vector3d(t.edgeU[0], t.edgeU[1], t.edgeU[2]));
+        const double b = r.row(1).dot(Eigen::Vector3d(t.edgeV[0], t.edgeV[1], t.edgeV[2]));
+        const double ux = x.x() - centerX, uz = x.z() - centerZ;
+        const double height = h + slopeX * ux + slopeZ * uz + 0.5 * (cxx * ux * ux + 2.0 * cxz * ux * uz + czz * uz * uz);
+        const double d = height - x.y();
+        if (!(d > -0.5 * (std::abs(a) + std::abs(b)))) continue;
+        const detail::WaterlineFractions f = detail::waterlineFractions(d, a, b);
+        if (f.area > 0.0 && f.area < 1.0) ++crossing;
+        if (std::abs(b) <= 1e-6 * std::abs(a) && f.area < 1.0) ++edgeOn;
+        const Eigen::Vector3d w = r * Eigen::Vector3d(t.areaVector[0], t.areaVector[1], t.areaVector[2]);
+        reference.addElement(x.x(), x.y(), x.z(), w.x(), w.y(), w.z(), t.area, f.area, f.depth, f.depthSq, height);
+        // A bound of every term's size: (1 + |x'| + |h|)^2 (|A| + area)(1 + |D| + Q).
+        const double reach = 1.0 + x.cwiseAbs().sum() + std::abs(height);
+        scale += reach * reach * (w.norm() + t.area) * (1.0 + std::abs(f.depth) + std::abs(f.depthSq));
+      }
+      ++checkedTiles;
+      auto compare = [&](const detail::WettedSums& lanes) {
+        const double got[] = {lanes.sumDA[0], lanes.sumDA[1], lanes.sumDA[2], lanes.sumDxA[0], lanes.sumDxA[1],
+                              lanes.sumDxA[2], lanes.sumDXAy, lanes.sumDZAy, lanes.sumYB, lanes.sumAy, lanes.sumXAy,
+                              lanes.sumZAy, lanes.sumXXAy, lanes.sumXZAy, lanes.sumZZAy, lanes.wettedArea};
+        const double want[] = {reference.sumDA[0], reference.sumDA[1], reference.sumDA[2], reference.sumDxA[0],
+                               reference.sumDxA[1], reference.sumDxA[2], reference.sumDXAy, reference.sumDZAy,
+                               reference.sumYB, reference.sumAy, reference.sumXAy, reference.sumZAy,
+                               reference.sumXXAy, reference.sumXZAy, reference.sumZZAy, reference.wettedArea};
+        for (int k = 0; k < 16; ++k) {
+          CAPTURE(size, trial, k);
+          CHECK(std::abs(got[k] - want[k]) <= 1e-12 * scale);
+        }
+      };
+      compare(pairs);
+      detail::WettedSums quads;
+      std::uint32_t quadReached = 0;
+      if (detail::sumWaveTexelsAvx2(in, quads, quadReached)) {
+        CHECK(quadReached == (size < 4 ? 2u : size + 2));
+        if (quadReached == reached) compare(quads);
+      }
+    }
+  }
+  // The cases are there.
+  CHECK(crossing > 50);
+  CHECK(edgeOn > 5);
+  CHECK(checkedTiles == 220);
 }

@@ -131,7 +131,7 @@ namespace {
 // little, so the search turns the last sines and cosines by the step instead of calling sin and
 // cos again, and its last steps (micrometres) need the shortest series.
 constexpr double kRotationLimit = 0.5;
-void smallSineCosine(double a, double& sine, double& cosine) {
+[[gnu::always_inline]] inline void smallSineCosine(double a, double& sine, double& cosine) {
   const double a2 = a * a;
   if (a2 < 1e-3 * 1e-3) {  // a^5 / 120 < 8.4e-18, a^6 / 720 < 1.4e-21
     sine = a * (1.0 + a2 * (-1.0 / 6));

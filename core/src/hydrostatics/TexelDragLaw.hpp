@@ -8,10 +8,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#if defined(__SSE2__) || defined(_M_X64)
-#include <emmintrin.h>
-#endif
 
+#include "DoubleLanes.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 
 namespace hydrotex::detail {
@@ -24,60 +22,11 @@ namespace hydrotex::detail {
 inline constexpr double kDragSurfaceHeightError = 1e-4;
 
 /// What the law needs of its number type, for one element (double) or several at once
-/// (DoubleLanes, two in one SSE2 register, and DragLanesAvx2.cpp's four in an AVX2 one: the
-/// rigid body's drag sum in a still liquid, DragLanes.hpp).
+/// (DoubleLanes, two in one SSE2 register, and QuadLanes' four in an AVX2 one: the rigid body's
+/// drag sum, DragLanes.hpp).
 inline double selectPositive(double x, double positive, double otherwise) { return x > 0.0 ? positive : otherwise; }
 inline double absolute(double x) { return std::abs(x); }
 inline double squareRoot(double x) { return std::sqrt(x); }
-
-#if defined(__SSE2__) || defined(_M_X64)
-/// Two doubles in one SSE2 register, with the arithmetic the law uses (each operation lane by lane,
-/// as the scalar one: the same rounding).
-struct DoubleLanes {
-  static constexpr unsigned kWidth = 2;
-  __m128d v;
-  DoubleLanes() = default;
-  explicit DoubleLanes(__m128d lanes) : v(lanes) {}
-  DoubleLanes(double both) : v(_mm_set1_pd(both)) {}  // NOLINT: scalars mix in as in the scalar law
-  double sum() const { return _mm_cvtsd_f64(_mm_add_sd(v, _mm_unpackhi_pd(v, v))); }
-  /// Two floats from `p`, widened.
-  static DoubleLanes loadFloats(const float* p) {
-    return DoubleLanes(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)))));
-  }
-  static DoubleLanes loadDoubles(const double* p) { return DoubleLanes(_mm_loadu_pd(p)); }
-  /// 1 in the first `count` lanes, 0 in the others.
-  static DoubleLanes firstLanes(unsigned count) {
-    return DoubleLanes(_mm_set_pd(count > 1 ? 1.0 : 0.0, count > 0 ? 1.0 : 0.0));
-  }
-};
-inline DoubleLanes operator+(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_add_pd(a.v, b.v)); }
-inline DoubleLanes operator-(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_sub_pd(a.v, b.v)); }
-inline DoubleLanes operator*(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_mul_pd(a.v, b.v)); }
-inline DoubleLanes operator/(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_div_pd(a.v, b.v)); }
-inline DoubleLanes operator-(DoubleLanes a) { return DoubleLanes(_mm_xor_pd(a.v, _mm_set1_pd(-0.0))); }
-inline DoubleLanes& operator+=(DoubleLanes& a, DoubleLanes b) { return a = a + b; }
-inline DoubleLanes& operator-=(DoubleLanes& a, DoubleLanes b) { return a = a - b; }
-inline DoubleLanes selectPositive(DoubleLanes x, double positive, double otherwise) {
-  const __m128d mask = _mm_cmpgt_pd(x.v, _mm_setzero_pd());
-  return DoubleLanes(_mm_or_pd(_mm_and_pd(mask, _mm_set1_pd(positive)), _mm_andnot_pd(mask, _mm_set1_pd(otherwise))));
-}
-inline DoubleLanes absolute(DoubleLanes x) { return DoubleLanes(_mm_andnot_pd(_mm_set1_pd(-0.0), x.v)); }
-inline DoubleLanes squareRoot(DoubleLanes x) { return DoubleLanes(_mm_sqrt_pd(x.v)); }
-inline DoubleLanes maximum(DoubleLanes a, DoubleLanes b) { return DoubleLanes(_mm_max_pd(a.v, b.v)); }
-/// x clamped to [0, 1] lane by lane.
-inline DoubleLanes clampUnit(DoubleLanes x) {
-  return DoubleLanes(_mm_min_pd(_mm_max_pd(x.v, _mm_setzero_pd()), _mm_set1_pd(1.0)));
-}
-/// All bits set in the lanes where x > 0, none elsewhere (for select).
-inline DoubleLanes positiveMask(DoubleLanes x) { return DoubleLanes(_mm_cmpgt_pd(x.v, _mm_setzero_pd())); }
-/// Bit k set where lane k of x is > 0.
-inline int positiveLanes(DoubleLanes x) { return _mm_movemask_pd(positiveMask(x).v); }
-/// a where `mask` (positiveMask) is set, b elsewhere.
-inline DoubleLanes select(DoubleLanes mask, DoubleLanes a, DoubleLanes b) {
-  return DoubleLanes(_mm_or_pd(_mm_and_pd(mask.v, a.v), _mm_andnot_pd(mask.v, b.v)));
-}
-#define HYDROTEX_DOUBLE_LANES 1
-#endif
 
 /// The law's derivative on one element: d force / d velocity = -(normalRate n n^T + isotropicRate I
 /// + tangentialRate t t^T) (N s/m), t the tangential velocity (m/s): the pressure term's

@@ -29,6 +29,7 @@
 
 #include "hydrostatics/HydrostaticSums.hpp"
 #include "hydrostatics/SurfaceJetGrid.hpp"
+#include "hydrostatics/WaveTexelLanes.hpp"
 #include "bake/TexelPosing.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
@@ -215,13 +216,9 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
     const double z0 = zRow.x(), z1 = zRow.y(), z2 = zRow.z();
     const double bx = offset.x(), by = offset.y(), bz = offset.z();
     const Model m = model ? *model : Model{};
-    detail::WettedSums local;  // this tile's texels, added to the query's sums at the end
-    detail::MomentCorrectionSums localCorrections;
-    std::uint32_t correction = tile.correctionBegin;  // the next of the tile's moment corrections
-    for (std::uint32_t i = tile.begin; i < tile.end; ++i) {
+    // Texel i, with its moment correction (null: none).
+    auto addTexel = [&](std::uint32_t i, const MomentCorrection* moment) {
       const Texel& texel = texels_[i];
-      const bool corrected = correction < tile.correctionEnd && corrections_[correction].texel == i;
-      const MomentCorrection* moment = corrected ? &corrections_[correction++] : nullptr;
       const double a = y0 * texel.edgeU[0] + y1 * texel.edgeU[1] + y2 * texel.edgeU[2];
       const double b = y0 * texel.edgeV[0] + y1 * texel.edgeV[1] + y2 * texel.edgeV[2];
       const double halfSpan = 0.5 * (std::abs(a) + std::abs(b));
@@ -229,7 +226,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       const double px = texel.position[0], py = texel.position[1], pz = texel.position[2];
       const double y = y0 * px + y1 * py + y2 * pz + by;
       // Over the highest surface it can meet: dry, no height asked.
-      if (y - span >= modelHighest) continue;
+      if (y - span >= modelHighest) return;
       const double x = x0 * px + x1 * py + x2 * pz + bx;
       const double z = z0 * px + z1 * py + z2 * pz + bz;
       // A corrected texel needs the slope too (MomentCorrectionSums): the model's, or
@@ -252,17 +249,36 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       } else {
         height = surface.surfaceHeight(x + origin.x(), z + origin.z(), q.time) - origin.y();
       }
-      if (!(height - y > -span)) continue;  // dry (or a NaN height)
+      if (!(height - y > -span)) return;  // dry (or a NaN height)
       const detail::WaterlineFractions f = detail::waterlineFractions(height - y, a, b);
       const double ax = texel.areaVector[0], ay = texel.areaVector[1], az = texel.areaVector[2];
-      local.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
+      sums.addElement(x, y, z, x0 * ax + x1 * ay + x2 * az, y0 * ax + y1 * ay + y2 * az, z0 * ax + z1 * ay + z2 * az,
                        texel.area, f.area, f.depth, f.depthSq, height);
       if (moment)
-        localCorrections.add(x, y, z, moment->moment, detail::correctionWeight(height - y, halfSpan, moment->reach),
+        corrections.add(x, y, z, moment->moment, detail::correctionWeight(height - y, halfSpan, moment->reach),
                              height - y, height, slopeX, slopeZ, r);
+    };
+    // Under a model, the texels without a moment correction in SIMD lanes up to `reached`
+    // (WaveTexelLanes.hpp), the corrected ones before it and every one after it here.
+    std::uint32_t reached = tile.begin;
+    std::uint32_t correction = tile.correctionBegin;  // the next of the tile's moment corrections
+#ifdef HYDROTEX_DOUBLE_LANES
+    if (model) {
+      const detail::WaveTexelInput lanes{texels_.data(), tile.begin, tile.end, corrections_.data() + tile.correctionBegin,
+                                         tile.correctionEnd - tile.correctionBegin,
+                                         {x0, x1, x2}, {y0, y1, y2}, {z0, z1, z2}, {bx, by, bz},
+                                         m.centerX, m.centerZ, m.h, m.jet.slopeX, m.jet.slopeZ,
+                                         m.jet.curvatureXX, m.jet.curvatureXZ, m.jet.curvatureZZ};
+      if (!detail::sumWaveTexelsAvx2(lanes, sums, reached))
+        reached = detail::sumWaveTexelLanes<detail::DoubleLanes>(lanes, sums);
+      for (; correction < tile.correctionEnd && corrections_[correction].texel < reached; ++correction)
+        addTexel(corrections_[correction].texel, &corrections_[correction]);
     }
-    sums.add(local);
-    corrections.add(localCorrections);
+#endif
+    for (std::uint32_t i = reached; i < tile.end; ++i) {
+      const bool corrected = correction < tile.correctionEnd && corrections_[correction].texel == i;
+      addTexel(i, corrected ? &corrections_[correction++] : nullptr);
+    }
   };
 
   // A unit (a group, a block or a tile, holding the tiles [firstTile, lastTile)) under one model:
@@ -278,12 +294,14 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       return;
     }
     Moments submerged;
+    bool anySubmerged = false;
     for (std::uint32_t g = firstTile; g < lastTile; ++g) {
       const Tile& tile = tiles_[g];
       detail::verticalRange(tile.boundsCenter, tile.boundsHalfExtent, r, offset.y(), low, high);
       if (low >= highest || low >= unitHigh) continue;
       if (high <= unitLow) {
         submerged.add(tile.moments);
+        anySubmerged = true;
         continue;
       }
       const Footprint tileFootprint = footprint(tile);
@@ -292,11 +310,12 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
       if (low >= tileHigh) continue;
       if (high <= tileLow) {
         submerged.add(tile.moments);
+        anySubmerged = true;
         continue;
       }
       addTexels(tile, &model, tileHigh);
     }
-    addWave(submerged, unit.boundsCenter, model);
+    if (anySubmerged) addWave(submerged, unit.boundsCenter, model);
   };
 
   // The largest unit whose model's bound is within the tolerance: the group, else its blocks of
