@@ -34,7 +34,7 @@ class SurfaceJetGrid {
     if (!(spacing_ > 0.0)) spacing_ = 1.0;  // a point footprint: one cell
     sideX_ = std::clamp(int(std::ceil((highX - lowX) / spacing_)) + 1, 2, kMaxSide);
     sideZ_ = std::clamp(int(std::ceil((highZ - lowZ) / spacing_)) + 1, 2, kMaxSide);
-    std::fill(state_.begin(), state_.begin() + sideX_ * sideZ_, std::uint8_t(0));
+    std::fill(state_.begin(), state_.begin() + sideX_ * sideZ_, std::uint8_t(kUnsampled));
   }
 
   /// Sample spacing in use (m).
@@ -111,6 +111,37 @@ class SurfaceJetGrid {
     return true;
   }
 
+  /// Marks the samples that interpolating at the local point (x, z) (m) needs, for sampleMarked().
+  void mark(double x, double z) {
+    int i, j;
+    double t, w;
+    if (!cell(x, z, i, j, t, w)) return;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        std::uint8_t& state = state_[std::size_t((j + b) * sideX_ + i + a)];
+        if (state == kUnsampled) state = kMarked;
+      }
+  }
+
+  /// Samples every marked node, row by row in alternating directions, kBatch nodes a call of
+  /// LiquidSurface::heightJets: a caller that knows its points beforehand (drag's patches) asks
+  /// the surface only for the nodes they need, each started from the one before it (waves).
+  void sampleMarked() {
+    int indices[kBatch];
+    std::size_t count = 0;
+    for (int j = 0; j < sideZ_; ++j)
+      for (int c = 0; c < sideX_; ++c) {
+        const int index = j * sideX_ + (j % 2 == 0 ? c : sideX_ - 1 - c);
+        if (state_[std::size_t(index)] != kMarked) continue;
+        indices[count++] = index;
+        if (count == kBatch) {
+          sample(indices, count);
+          count = 0;
+        }
+      }
+    if (count > 0) sample(indices, count);
+  }
+
  private:
   // The cell (i, j) holding the local point (x, z), clamped into the grid, and the point's place
   // (t, w) in it (0..1); false for a point that is not finite (int(NaN) is undefined).
@@ -132,39 +163,48 @@ class SurfaceJetGrid {
   // The sample (i, j), evaluated on first use; nullptr when the surface gives no jet there.
   const Node* node(int i, int j) {
     const int index = j * sideX_ + i;
-    if (state_[std::size_t(index)] == 0) sampleBlock(i, j);
-    return state_[std::size_t(index)] == 1 ? &nodes_[std::size_t(index)] : nullptr;
+    if (state_[std::size_t(index)] == kUnsampled || state_[std::size_t(index)] == kMarked) sampleBlock(i, j);
+    return state_[std::size_t(index)] == kUsable ? &nodes_[std::size_t(index)] : nullptr;
   }
+
+  // A node's state: not sampled, sampled (usable), no jet there, marked for sampleMarked().
+  enum : std::uint8_t { kUnsampled = 0, kUsable = 1, kUnusable = 2, kMarked = 3 };
 
   // Samples the unsampled nodes of the kBlock x kBlock block holding (i, j) in one call of
   // LiquidSurface::heightJets, in alternating row directions so that each node is next to the one
   // before it (waves start each search from the last one's rest point: ~0.65 of heightJet()'s time
-  // per node). Blocks of 2: on bench_peers' box on three waves drag's grid samples 36 nodes where
-  // single nodes took 30, and its drag takes 11.2 us against 11.4 (blocks of 4: 64 nodes, 14.8 us).
+  // per node). Blocks of 2: on bench_peers' box on three waves drag's grid sampled 36 nodes where
+  // single nodes took 30, and its drag took 11.2 us against 11.4 (blocks of 4: 64 nodes, 14.8 us).
   static constexpr int kBlock = 2;
   void sampleBlock(int i, int j) {
     const int i0 = i - i % kBlock, j0 = j - j % kBlock;
     const int i1 = std::min(i0 + kBlock, sideX_), j1 = std::min(j0 + kBlock, sideZ_);
-    double xs[kBlock * kBlock], zs[kBlock * kBlock];
     int indices[kBlock * kBlock];
-    std::optional<SurfaceJet> jets[kBlock * kBlock];
     std::size_t count = 0;
     for (int b = j0; b < j1; ++b)
       for (int c = 0; c < i1 - i0; ++c) {
-        const int a = (b - j0) % 2 == 0 ? i0 + c : i1 - 1 - c;
-        const int index = b * sideX_ + a;
-        if (state_[std::size_t(index)] != 0) continue;
-        xs[count] = originX_ + lowX_ + a * spacing_;
-        zs[count] = originZ_ + lowZ_ + b * spacing_;
-        indices[count++] = index;
+        const int index = b * sideX_ + ((b - j0) % 2 == 0 ? i0 + c : i1 - 1 - c);
+        if (state_[std::size_t(index)] == kUnsampled || state_[std::size_t(index)] == kMarked) indices[count++] = index;
       }
+    sample(indices, count);
+  }
+
+  // Samples the nodes `indices` (in that order) in one call of LiquidSurface::heightJets.
+  static constexpr std::size_t kBatch = 64;
+  void sample(const int* indices, std::size_t count) {
+    double xs[kBatch], zs[kBatch];
+    std::optional<SurfaceJet> jets[kBatch];
+    for (std::size_t k = 0; k < count; ++k) {
+      xs[k] = originX_ + lowX_ + (indices[k] % sideX_) * spacing_;
+      zs[k] = originZ_ + lowZ_ + (indices[k] / sideX_) * spacing_;
+    }
     surface_.heightJets(std::span(xs, count), std::span(zs, count), time_, std::span(jets, count));
     for (std::size_t k = 0; k < count; ++k) {
       const std::optional<SurfaceJet>& jet = jets[k];
       const bool usable = jet && std::isfinite(jet->height) && std::isfinite(jet->slopeX) &&
                           std::isfinite(jet->slopeZ) && std::isfinite(jet->curvatureXZ);
       if (usable) nodes_[std::size_t(indices[k])] = Node{jet->height, jet->slopeX, jet->slopeZ, jet->curvatureXZ};
-      state_[std::size_t(indices[k])] = usable ? 1 : 2;
+      state_[std::size_t(indices[k])] = usable ? kUsable : kUnusable;
     }
   }
 
@@ -247,6 +287,15 @@ class SurfaceHeights {
 
   /// Whether the heights are interpolated (false: each point asks the surface).
   bool interpolated() const { return grid_.has_value(); }
+
+  /// Marks the samples that at(x, z) (world, m) will need, for sampleMarked() (interpolated only).
+  void mark(double x, double z) {
+    if (grid_) grid_->mark(x - originX_, z - originZ_);
+  }
+  /// Samples what mark() marked, in as few calls of the surface as SurfaceJetGrid::sampleMarked.
+  void sampleMarked() {
+    if (grid_) grid_->sampleMarked();
+  }
 
   /// Height (m, world) of the surface above the world point (x, z).
   double at(double x, double z) {

@@ -332,6 +332,18 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   const double highestCrest = waves ? surface.heightRange(liquid.time).second - translation.y() : INFINITY;
   detail::SurfaceHeights heights(surface, liquid.time, waves ? dragFootprint(set, rotation, translation) : detail::Footprint{},
                                  detail::kDragSurfaceHeightError);
+  // The grid's samples that the patches below the highest crest need, asked of the surface at
+  // once (each started from the last: 30 jets at 110 instead of 36 at 157 ns on bench_peers' box).
+  if (waves && heights.interpolated()) {
+    for (const DragPatchSet::Cluster& cluster : set.clusters) {
+      if (up.dot(cluster.center) - upReach * cluster.radius > highestCrest) continue;
+      for (std::uint32_t i = cluster.begin; i < cluster.end; ++i) {
+        const Eigen::Vector3d p = rotation * Eigen::Vector3d(double(set.x[i]), double(set.y[i]), double(set.z[i])) + translation;
+        heights.mark(p.x(), p.z());
+      }
+    }
+    heights.sampleMarked();
+  }
   // The law's derivative, for the implicit update, when the body asks for it (DragDamping).
   const bool linearized = body.damping == DragDamping::Linearized;
   // The totals, which the lanes and the scalar path below add to.
