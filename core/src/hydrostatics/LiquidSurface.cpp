@@ -146,105 +146,159 @@ constexpr double kRotationLimit = 0.5;
 }
 }  // namespace
 
-GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
-                                                  bool turnPhases, bool extrapolate, const RestPoint* start) const {
+namespace {
+constexpr int kMaxIterations = 24;
+constexpr double kMinDeterminant = 0.1;
+}  // namespace
+
+void GerstnerWaves::startSearch(Search& search, double x, double z, bool turnPhases, const RestPoint* start) const {
+  RestPoint& p = search.p;
+  search.stepX = search.stepZ = 0.0;
+  search.iteration = 0;
+  search.turnPhases = turnPhases && components_.size() <= kCachedWaves;
+  // Started from a nearby point's answer: its rest point moved by its Jacobian's inverse times
+  // the move of the point asked (X(x0) = x to first order), and its phases turned from where they
+  // were evaluated. Else from the point itself (a rest point moves at most sum Q A from it).
+  search.warm = search.turnPhases && start != nullptr;
+  if (!search.warm) {
+    p = RestPoint{};
+    p.x = p.x0 = x;
+    p.z = p.z0 = z;
+    return;
+  }
+  const RestPoint from = *start;  // `start` may be search.p itself
+  p = from;
+  p.x = x;
+  p.z = z;
+  const double dx = x - from.x, dz = z - from.z;
+  const double determinant = from.jxx * from.jzz - from.jxz * from.jxz;
+  if (determinant > kMinDeterminant) {
+    p.x0 = from.x0 + (from.jzz * dx - from.jxz * dz) / determinant;
+    p.z0 = from.z0 + (from.jxx * dz - from.jxz * dx) / determinant;
+  } else {
+    p.x0 = from.x0 + dx;
+    p.z0 = from.z0 + dz;
+  }
+}
+
+bool GerstnerWaves::advanceSearch(Search& search, double time, double tolerance, bool extrapolate) const {
   // The surface point above (x, z) comes from the rest point x0 with F(x0) = x0 + H(x0) - x = 0,
   // H the horizontal displacement. Newton: J = I - sum Q A k cos(theta) d d^T; where J is nearly
   // singular (crests about to loop, sum Q k A near 1) the fixed-point step x0 <- x - H(x0), which
   // contracts while sum Q k A < 1. The height returned is that of the last evaluated rest point,
   // within one (sub-tolerance) step of the solution.
-  constexpr int kMaxIterations = 24;
-  constexpr double kMinDeterminant = 0.1;
-  RestPoint p{};
-  p.x = x;
-  p.z = z;
-  p.x0 = x;
-  p.z0 = z;
-  turnPhases = turnPhases && components_.size() <= kCachedWaves;
-  // Started from a nearby point's answer: its rest point moved by its Jacobian's inverse times
-  // the move of the point asked (X(x0) = x to first order), and its phases turned from where they
-  // were evaluated. Else from the point itself (a rest point moves at most sum Q A from it).
-  const bool warm = turnPhases && start != nullptr;
-  if (warm) {
-    p = *start;
-    p.x = x;
-    p.z = z;
-    const double dx = x - start->x, dz = z - start->z;
-    const double determinant = start->jxx * start->jzz - start->jxz * start->jxz;
-    if (determinant > kMinDeterminant) {
-      p.x0 = start->x0 + (start->jzz * dx - start->jxz * dz) / determinant;
-      p.z0 = start->z0 + (start->jxx * dz - start->jxz * dx) / determinant;
+  RestPoint& p = search.p;
+  const int iteration = search.iteration;
+  double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
+  // The move of the rest point since the phases were last evaluated: the last step, or from
+  // the start's evaluated rest point.
+  const double moveX = iteration > 0 ? -search.stepX : p.x0 - p.ex, moveZ = iteration > 0 ? -search.stepZ : p.z0 - p.ez;
+  const bool turnable = search.turnPhases && (iteration > 0 || search.warm);
+  for (std::size_t w = 0; w < components_.size(); ++w) {
+    const Component& c = components_[w];
+    double sine, cosine;
+    const double turn = turnable ? c.waveNumber * (c.dirX * moveX + c.dirZ * moveZ) : INFINITY;
+    if (std::abs(turn) <= kRotationLimit) {
+      double s, co;
+      smallSineCosine(turn, s, co);
+      sine = p.sine[w] * co + p.cosine[w] * s;
+      cosine = p.cosine[w] * co - p.sine[w] * s;
     } else {
-      p.x0 = start->x0 + dx;
-      p.z0 = start->z0 + dz;
+      const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
+      sine = std::sin(theta);
+      cosine = std::cos(theta);
     }
+    if (w < kCachedWaves) {
+      p.sine[w] = sine;
+      p.cosine[w] = cosine;
+    }
+    const double horizontal = c.steepness * c.amplitude;
+    hx -= horizontal * sine * c.dirX;
+    hz -= horizontal * sine * c.dirZ;
+    height += c.amplitude * cosine;
+    const double slope = horizontal * c.waveNumber * cosine;
+    jxx -= slope * c.dirX * c.dirX;
+    jxz -= slope * c.dirX * c.dirZ;
+    jzz -= slope * c.dirZ * c.dirZ;
+    const double rise = -c.amplitude * c.waveNumber * sine;
+    gx += rise * c.dirX;
+    gz += rise * c.dirZ;
   }
-  double stepX = 0.0, stepZ = 0.0;
-  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    double hx = 0.0, hz = 0.0, jxx = 1.0, jxz = 0.0, jzz = 1.0, gx = 0.0, gz = 0.0, height = 0.0;
-    // The move of the rest point since the phases were last evaluated: the last step, or from
-    // the start's evaluated rest point.
-    const double moveX = iteration > 0 ? -stepX : p.x0 - p.ex, moveZ = iteration > 0 ? -stepZ : p.z0 - p.ez;
-    const bool turnable = turnPhases && (iteration > 0 || warm);
-    for (std::size_t w = 0; w < components_.size(); ++w) {
-      const Component& c = components_[w];
-      double sine, cosine;
-      const double turn = turnable ? c.waveNumber * (c.dirX * moveX + c.dirZ * moveZ) : INFINITY;
-      if (std::abs(turn) <= kRotationLimit) {
-        double s, co;
-        smallSineCosine(turn, s, co);
-        sine = p.sine[w] * co + p.cosine[w] * s;
-        cosine = p.cosine[w] * co - p.sine[w] * s;
-      } else {
-        const double theta = c.waveNumber * (c.dirX * p.x0 + c.dirZ * p.z0) - c.omega * time + c.phase;
-        sine = std::sin(theta);
-        cosine = std::cos(theta);
-      }
-      if (w < kCachedWaves) {
-        p.sine[w] = sine;
-        p.cosine[w] = cosine;
-      }
-      const double horizontal = c.steepness * c.amplitude;
-      hx -= horizontal * sine * c.dirX;
-      hz -= horizontal * sine * c.dirZ;
-      height += c.amplitude * cosine;
-      const double slope = horizontal * c.waveNumber * cosine;
-      jxx -= slope * c.dirX * c.dirX;
-      jxz -= slope * c.dirX * c.dirZ;
-      jzz -= slope * c.dirZ * c.dirZ;
-      const double rise = -c.amplitude * c.waveNumber * sine;
-      gx += rise * c.dirX;
-      gz += rise * c.dirZ;
-    }
-    p.ex = p.x0;
-    p.ez = p.z0;
-    p.height = meanLevel_ + height;
-    p.jxx = jxx;
-    p.jxz = jxz;
-    p.jzz = jzz;
-    p.gx = gx;
-    p.gz = gz;
-    const double rx = p.x0 + hx - x, rz = p.z0 + hz - z;
-    const double determinant = jxx * jzz - jxz * jxz;
-    stepX = rx;
-    stepZ = rz;
-    if (determinant > kMinDeterminant) {
-      stepX = (jzz * rx - jxz * rz) / determinant;
-      stepZ = (jxx * rz - jxz * rx) / determinant;
-      if (extrapolate && std::abs(stepX) + std::abs(stepZ) <= extrapolationStep_) {
-        p.x0 -= stepX;
-        p.z0 -= stepZ;
-        p.height -= gx * stepX + gz * stepZ;
-        return p;
-      }
-    }
-    if (std::abs(stepX) + std::abs(stepZ) < tolerance) return p;
-    if (iteration + 1 < kMaxIterations) {
+  p.ex = p.x0;
+  p.ez = p.z0;
+  p.height = meanLevel_ + height;
+  p.jxx = jxx;
+  p.jxz = jxz;
+  p.jzz = jzz;
+  p.gx = gx;
+  p.gz = gz;
+  const double rx = p.x0 + hx - p.x, rz = p.z0 + hz - p.z;
+  const double determinant = jxx * jzz - jxz * jxz;
+  double stepX = rx, stepZ = rz;
+  if (determinant > kMinDeterminant) {
+    stepX = (jzz * rx - jxz * rz) / determinant;
+    stepZ = (jxx * rz - jxz * rx) / determinant;
+    if (extrapolate && std::abs(stepX) + std::abs(stepZ) <= extrapolationStep_) {
       p.x0 -= stepX;
       p.z0 -= stepZ;
+      p.height -= gx * stepX + gz * stepZ;
+      return true;
     }
   }
-  return p;  // not converged: the values of the last evaluated point
+  if (std::abs(stepX) + std::abs(stepZ) < tolerance) return true;
+  search.stepX = stepX;
+  search.stepZ = stepZ;
+  if (++search.iteration >= kMaxIterations) return true;  // not converged: the last evaluated point's values
+  p.x0 -= stepX;
+  p.z0 -= stepZ;
+  return false;
+}
+
+GerstnerWaves::RestPoint GerstnerWaves::restPoint(double x, double z, double time, double tolerance,
+                                                  bool turnPhases, bool extrapolate) const {
+  Search search;
+  startSearch(search, x, z, turnPhases, nullptr);
+  while (!advanceSearch(search, time, tolerance, extrapolate)) {
+  }
+  return search.p;
+}
+
+template <class Answer>
+void GerstnerWaves::searchAll(std::span<const double> x, std::span<const double> z, double time, double tolerance,
+                              bool extrapolate, Answer answer) const {
+  // kLanes runs of consecutive points searched side by side, one evaluation of each in turn, so
+  // that the processor overlaps their evaluations (each is a chain of dependent operations); each
+  // point of a run starts from the one before it. Runs of fewer than kShortestRun points would
+  // lose more to cold starts than they gain: then one run.
+  constexpr std::size_t kLanes = 4, kShortestRun = 8;
+  const std::size_t n = x.size();
+  const std::size_t lanes = n >= kLanes * kShortestRun ? kLanes : 1;
+  Search search[kLanes];
+  std::size_t next[kLanes], first[kLanes], end[kLanes];
+  std::size_t active = 0;
+  for (std::size_t lane = 0; lane < lanes; ++lane) {
+    first[lane] = next[lane] = n * lane / lanes;
+    end[lane] = n * (lane + 1) / lanes;
+    if (next[lane] < end[lane]) {
+      startSearch(search[lane], x[next[lane]], z[next[lane]], true, nullptr);
+      ++active;
+    }
+  }
+  while (active > 0) {
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+      if (next[lane] >= end[lane] || !advanceSearch(search[lane], time, tolerance, extrapolate)) continue;
+      const RestPoint& found = search[lane].p;
+      answer(next[lane], found);
+      if (++next[lane] == end[lane]) {
+        --active;
+        continue;
+      }
+      // Afresh every kFreshPhases-th point of a run (rounding cannot accumulate along it) and after
+      // a point that is not finite.
+      const bool fresh = (next[lane] - first[lane]) % kFreshPhases == 0 || !std::isfinite(found.x0 + found.z0);
+      startSearch(search[lane], x[next[lane]], z[next[lane]], true, fresh ? nullptr : &found);
+    }
+  }
 }
 
 std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double time) const {
@@ -257,23 +311,14 @@ std::optional<SurfaceJet> GerstnerWaves::heightJet(double x, double z, double ti
 void GerstnerWaves::heightJets(std::span<const double> x, std::span<const double> z, double time,
                                std::span<std::optional<SurfaceJet>> out) const {
   if (z.size() != x.size() || out.size() != x.size()) return;
-  RestPoint last{};
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const bool fresh = i % kFreshPhases == 0 || !std::isfinite(last.x0 + last.z0);
-    last = restPoint(x[i], z[i], time, kJetHorizontalTolerance, true, false, fresh ? nullptr : &last);
-    out[i] = jetAt(last, time);
-  }
+  searchAll(x, z, time, kJetHorizontalTolerance, false,
+            [&](std::size_t i, const RestPoint& p) { out[i] = jetAt(p, time); });
 }
 
 void GerstnerWaves::surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
                                    std::span<double> out) const {
   if (z.size() != x.size() || out.size() != x.size()) return;
-  RestPoint last{};
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const bool fresh = i % kFreshPhases == 0 || !std::isfinite(last.x0 + last.z0);
-    last = restPoint(x[i], z[i], time, kHorizontalTolerance, true, true, fresh ? nullptr : &last);
-    out[i] = last.height;
-  }
+  searchAll(x, z, time, kHorizontalTolerance, true, [&](std::size_t i, const RestPoint& p) { out[i] = p.height; });
 }
 
 std::optional<SurfaceJet> GerstnerWaves::jetAt(const RestPoint& p, double time) const {

@@ -237,9 +237,26 @@ class GerstnerWaves final : public LiquidSurface {
   // extrapolate (surfaceHeight): a Newton step under extrapolationStep_ is taken without a new
   // evaluation, the height moved along it by its gradient (the Jacobian, gradient and phases
   // stay those of the last evaluated point, which heightJet needs and so never extrapolates).
-  // start (turnPhases only): the last nearby point's answer at the same time, to start from.
   RestPoint restPoint(double x, double z, double time, double tolerance = kHorizontalTolerance,
-                      bool turnPhases = false, bool extrapolate = false, const RestPoint* start = nullptr) const;
+                      bool turnPhases = false, bool extrapolate = false) const;
+  // One search for a rest point, advanced one evaluation at a time: restPoint() runs one to its
+  // end, the batches (searchAll) several side by side.
+  struct Search {
+    RestPoint p;
+    double stepX, stepZ;  // the last Newton step (m)
+    int iteration;
+    bool turnPhases, warm;
+  };
+  // Starts a search for the point (x, z); start (turnPhases only): a nearby point's answer at the
+  // same time, to start from (it may be search.p itself).
+  void startSearch(Search& search, double x, double z, bool turnPhases, const RestPoint* start) const;
+  // One evaluation and Newton step; true when the search has ended (search.p holds the answer).
+  bool advanceSearch(Search& search, double time, double tolerance, bool extrapolate) const;
+  // The rest points of the points (x[i], z[i]), answer(i, rest point) for each, runs of them side
+  // by side, each point started from the one before it in its run.
+  template <class Answer>
+  void searchAll(std::span<const double> x, std::span<const double> z, double time, double tolerance,
+                 bool extrapolate, Answer answer) const;
   // heightJet()'s implicit differentiation at a rest point found to kJetHorizontalTolerance.
   std::optional<SurfaceJet> jetAt(const RestPoint& p, double time) const;
 
