@@ -437,6 +437,8 @@ TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.5, 1.0).normalized())).toRotationMatrix();
   const Eigen::Vector3d offset(0.1, -0.05, 0.2);
   const double centerX = 0.05, centerZ = -0.1, h = 0.02, slopeX = 0.08, slopeZ = -0.05, cxx = 0.3, cxz = -0.1, czz = 0.2;
+  // The model's highest over the texels (|x - c| <= 0.5 m): a bound, as the tile's range gives.
+  const double highest = h + 0.08 * 0.5 + 0.05 * 0.5 + 0.5 * (0.3 + 0.2 + 0.2) * 0.25;
   int crossing = 0, edgeOn = 0, checkedTiles = 0;
   for (std::uint32_t size = 1; size <= 11; ++size) {
     for (int trial = 0; trial < 20; ++trial) {
@@ -462,7 +464,8 @@ TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by
         if (unit(rng) > 0.7) corrections.push_back(Correction{i, {}, 0.01f});
       detail::WaveTexelInput in{texels.data(), 2, size + 2, corrections.data(), std::uint32_t(corrections.size()),
                                 {r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)},
-                                {offset.x(), offset.y(), offset.z()}, centerX, centerZ, h, slopeX, slopeZ, cxx, cxz, czz};
+                                {offset.x(), offset.y(), offset.z()}, centerX, centerZ, h, slopeX, slopeZ, cxx, cxz, czz,
+                                highest};
       detail::WettedSums pairs;
       const std::uint32_t reached = detail::sumWaveTexelLanes<detail::DoubleLanes>(in, pairs);
       CHECK(reached == (size < 2 ? 2u : size + 2));

@@ -259,16 +259,17 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
                              height - y, height, slopeX, slopeZ, r);
     };
     // Under a model, the texels without a moment correction in SIMD lanes up to `reached`
-    // (WaveTexelLanes.hpp), the corrected ones before it and every one after it here.
+    // (WaveTexelLanes.hpp), the corrected ones before it and every one after it here; a tile of
+    // corrected texels mostly (a finely tessellated mesh's) all here.
     std::uint32_t reached = tile.begin;
     std::uint32_t correction = tile.correctionBegin;  // the next of the tile's moment corrections
 #ifdef HYDROTEX_DOUBLE_LANES
-    if (model) {
+    if (model && 2 * (tile.correctionEnd - tile.correctionBegin) <= tile.end - tile.begin) {
       const detail::WaveTexelInput lanes{texels_.data(), tile.begin, tile.end, corrections_.data() + tile.correctionBegin,
                                          tile.correctionEnd - tile.correctionBegin,
                                          {x0, x1, x2}, {y0, y1, y2}, {z0, z1, z2}, {bx, by, bz},
                                          m.centerX, m.centerZ, m.h, m.jet.slopeX, m.jet.slopeZ,
-                                         m.jet.curvatureXX, m.jet.curvatureXZ, m.jet.curvatureZZ};
+                                         m.jet.curvatureXX, m.jet.curvatureXZ, m.jet.curvatureZZ, modelHighest};
       if (!detail::sumWaveTexelsAvx2(lanes, sums, reached))
         reached = detail::sumWaveTexelLanes<detail::DoubleLanes>(lanes, sums);
       for (; correction < tile.correctionEnd && corrections_[correction].texel < reached; ++correction)

@@ -33,6 +33,9 @@ struct WaveTexelInput {
   double xRow[3], yRow[3], zRow[3], offset[3];           ///< x' = R p + offset
   /// The model: height h (m, frame o) at (centerX, centerZ), slopes and curvatures there.
   double centerX, centerZ, h, slopeX, slopeZ, curvatureXX, curvatureXZ, curvatureZZ;
+  /// The highest the model's heights can be over the tile (m, frame o): a group of texels
+  /// wholly over it is dry without its heights.
+  double highest;
 };
 
 /// Floats in a packed texel, and where its fields start.
@@ -58,7 +61,7 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
   const L z0 = in.zRow[0], z1 = in.zRow[1], z2 = in.zRow[2];
   const L bx = in.offset[0], by = in.offset[1], bz = in.offset[2];
   const L centerX = in.centerX, centerZ = in.centerZ, h0 = in.h, slopeX = in.slopeX, slopeZ = in.slopeZ;
-  const L cxx = in.curvatureXX, cxz = in.curvatureXZ, czz = in.curvatureZZ;
+  const L cxx = in.curvatureXX, cxz = in.curvatureXZ, czz = in.curvatureZZ, highest = in.highest;
   const L zero = 0.0, one = 1.0, half = 0.5;
   L sumDA0 = zero, sumDA1 = zero, sumDA2 = zero, sumDxA0 = zero, sumDxA1 = zero, sumDxA2 = zero;
   L sumDXAy = zero, sumDZAy = zero, sumYB = zero, sumAy = zero, sumXAy = zero, sumZAy = zero;
@@ -72,6 +75,7 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
     next = i + W;
     for (; correction < in.correctionCount && in.corrections[correction].texel < i + W; ++correction)
       corrected |= 1 << (in.corrections[correction].texel - i);
+    if (corrected == (1 << W) - 1) continue;
     const float* p = reinterpret_cast<const float*>(in.texels + i);
     auto field = [p](unsigned k) { return L::loadFloatsStrided(p + k, kTexelFloats); };
     const L px = field(kPosition), py = field(kPosition + 1), pz = field(kPosition + 2);
@@ -79,6 +83,8 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
     const L b = y0 * field(kEdgeV) + y1 * field(kEdgeV + 1) + y2 * field(kEdgeV + 2);
     const L halfSpan = half * (absolute(a) + absolute(b));
     const L y = y0 * px + y1 * py + y2 * pz + by;
+    // Over the highest the model reaches (the scalar loop's test): dry without their heights.
+    if ((maskLanes(lessMask(y - halfSpan, highest)) & ~corrected) == 0) continue;
     const L x = x0 * px + x1 * py + x2 * pz + bx;
     const L z = z0 * px + z1 * py + z2 * pz + bz;
     const L ux = x - centerX, uz = z - centerZ;
