@@ -424,14 +424,12 @@ TEST_CASE("Waves: the hierarchy's settings are checked", "[hydrostatics][texture
 
 TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by-texel sums", "[texture][waves][lanes]") {
   // Random texels about a waterline under a tilted pose and a curved model: wholly under, wholly
-  // over, crossing, and edge-on ones (one edge horizontal: waterlineFractions' 1-D case), some
-  // with a moment correction (the lanes leave those to the caller), in tiles of 1 to 11 texels
-  // (the last group of lanes overlaps the one before it; a tile smaller than the lanes is the
-  // caller's). The reference is the scalar code's per texel (waterlineFractions, addElement);
+  // over, crossing, and edge-on ones (one edge horizontal: waterlineFractions' 1-D case), in tiles
+  // of 1 to 11 texels (the last group of lanes overlaps the one before it; a tile smaller than
+  // the lanes is the caller's). The reference is the scalar code's per texel (waterlineFractions, addElement);
   // the lanes compute the same per texel, so only the order of the sums differs: 1e-12 of a
   // bound of the terms' sizes. The SSE2 lanes (this test's instantiation) and the AVX2 ones where present.
   using Texel = TextureHydrostatics::Texel;
-  using Correction = TextureHydrostatics::MomentCorrection;
   std::mt19937 rng(19);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 0.5, 1.0).normalized())).toRotationMatrix();
@@ -459,10 +457,7 @@ TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by
           for (int k = 0; k < 3; ++k) t.edgeV[k] = float(v[k]);
         }
       }
-      std::vector<Correction> corrections;
-      for (std::uint32_t i = 2; i < size + 2; ++i)
-        if (unit(rng) > 0.7) corrections.push_back(Correction{i, {}, 0.01f});
-      detail::WaveTexelInput in{texels.data(), 2, size + 2, corrections.data(), std::uint32_t(corrections.size()),
+      detail::WaveTexelInput in{texels.data(), 2, size + 2,
                                 {r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)},
                                 {offset.x(), offset.y(), offset.z()}, centerX, centerZ, h, slopeX, slopeZ, cxx, cxz, czz,
                                 highest};
@@ -472,10 +467,7 @@ TEST_CASE("the texels under a wave's local model in SIMD lanes give the texel-by
       // The reference over the texels the lanes took.
       detail::WettedSums reference;
       double scale = 0.0;
-      std::size_t c = 0;
       for (std::uint32_t i = 2; i < reached; ++i) {
-        while (c < corrections.size() && corrections[c].texel < i) ++c;
-        if (c < corrections.size() && corrections[c].texel == i) continue;
         const Texel& t = texels[i];
         const Eigen::Vector3d p(t.position[0], t.position[1], t.position[2]);
         const Eigen::Vector3d x = r * p + offset;

@@ -8,8 +8,8 @@
 /// with the same operations in the same order (no fused multiply-adds): the posed texel, the
 /// model's height, the waterline fractions (waterlineFractions) and the element's terms
 /// (WettedSums::addElement); only the order of the sums over texels differs (per lane, then
-/// across lanes). Texels with a moment correction are left to the caller, as are the last texels
-/// of a tile that do not fill the lanes (the lanes read whole groups of consecutive texels).
+/// across lanes). A texel's moment correction (MomentCorrectionSums) is left to the caller, as is
+/// a tile of fewer texels than lanes (the lanes read whole groups of consecutive texels).
 ///
 /// The AVX2 unit is compiled with -mavx2, so it must not emit any function another unit also
 /// emits: the input is plain data, the output WettedSums is only added to (no member function
@@ -28,8 +28,6 @@ namespace hydrotex::detail {
 struct WaveTexelInput {
   const TextureHydrostatics::Texel* texels;              ///< the packed texels
   std::uint32_t begin, end;                               ///< the tile's texels
-  const TextureHydrostatics::MomentCorrection* corrections;  ///< the tile's, sorted by texel
-  std::uint32_t correctionCount;
   double xRow[3], yRow[3], zRow[3], offset[3];           ///< x' = R p + offset
   /// The model: height h (m, frame o) at (centerX, centerZ), slopes and curvatures there.
   double centerX, centerZ, h, slopeX, slopeZ, curvatureXX, curvatureXZ, curvatureZZ;
@@ -42,10 +40,11 @@ struct WaveTexelInput {
 inline constexpr unsigned kTexelFloats = sizeof(TextureHydrostatics::Texel) / sizeof(float);
 static_assert(sizeof(TextureHydrostatics::Texel) == kTexelFloats * sizeof(float), "a texel is floats only");
 
-/// Adds the texels [in.begin, reached) without a moment correction to `out` (frame o), L::kWidth
-/// at a time, and returns `reached`: in.end, or in.begin for a tile of fewer texels than lanes.
-/// The last group ends at in.end, its lanes that the group before it took masked. The caller adds
-/// the corrected texels before `reached` and every texel from it.
+/// Adds the element terms of the texels [in.begin, reached) to `out` (frame o), L::kWidth at a
+/// time, and returns `reached`: in.end, or in.begin for a tile of fewer texels than lanes. The
+/// last group ends at in.end, its lanes that the group before it took masked. A corrected texel's
+/// element terms are those of any texel (waterlineFractions gives zeros under -halfSpan, where
+/// its pieces' reach may still wet its correction): the caller adds the corrections.
 template <class L>
 inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out) {
   constexpr unsigned W = L::kWidth;
@@ -66,16 +65,11 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
   L sumDA0 = zero, sumDA1 = zero, sumDA2 = zero, sumDxA0 = zero, sumDxA1 = zero, sumDxA2 = zero;
   L sumDXAy = zero, sumDZAy = zero, sumYB = zero, sumAy = zero, sumXAy = zero, sumZAy = zero;
   L sumXXAy = zero, sumXZAy = zero, sumZZAy = zero, wettedArea = zero;
-  std::uint32_t correction = 0;
   for (std::uint32_t next = in.begin; next < in.end;) {
-    // The group [i, i + W): the lanes before `next` were the last group's; those whose texel has a
-    // moment correction are the caller's.
+    // The group [i, i + W): its lanes before `next` were the last group's.
     const std::uint32_t i = next + W <= in.end ? next : in.end - W;
-    int corrected = (1 << (next - i)) - 1;
+    const int taken = (1 << (next - i)) - 1;
     next = i + W;
-    for (; correction < in.correctionCount && in.corrections[correction].texel < i + W; ++correction)
-      corrected |= 1 << (in.corrections[correction].texel - i);
-    if (corrected == (1 << W) - 1) continue;
     const float* p = reinterpret_cast<const float*>(in.texels + i);
     auto field = [p](unsigned k) { return L::loadFloatsStrided(p + k, kTexelFloats); };
     const L px = field(kPosition), py = field(kPosition + 1), pz = field(kPosition + 2);
@@ -84,14 +78,14 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
     const L halfSpan = half * (absolute(a) + absolute(b));
     const L y = y0 * px + y1 * py + y2 * pz + by;
     // Over the highest the model reaches (the scalar loop's test): dry without their heights.
-    if ((maskLanes(lessMask(y - halfSpan, highest)) & ~corrected) == 0) continue;
+    if ((maskLanes(lessMask(y - halfSpan, highest)) & ~taken) == 0) continue;
     const L x = x0 * px + x1 * py + x2 * pz + bx;
     const L z = z0 * px + z1 * py + z2 * pz + bz;
     const L ux = x - centerX, uz = z - centerZ;
     const L height = h0 + slopeX * ux + slopeZ * uz + half * (cxx * ux * ux + L(2.0) * cxz * ux * uz + czz * uz * uz);
     const L d = height - y;
-    // Wet: d > -halfSpan (a NaN height is dry), and not the caller's.
-    const int wetBits = maskLanes(lessMask(-halfSpan, d)) & ~corrected;
+    // Wet: d > -halfSpan (a NaN height is dry), and not the last group's.
+    const int wetBits = maskLanes(lessMask(-halfSpan, d)) & ~taken;
     if (wetBits == 0) continue;
     const L wet = L::maskOf(wetBits);
     // waterlineFractions(d, a, b), every case in every lane, then the lane's own chosen.
