@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -215,32 +216,17 @@ inline void addClippedWetTriangle(detail::WettedSums& sums, const SurfaceVertex*
 
 /// Per-thread scratch for the vertices under a free surface that is not flat: it grows to the
 /// largest mesh a thread has seen and is reused, so that a step allocates nothing.
-std::vector<SurfaceVertex>& surfaceVertexScratch() {
-  thread_local std::vector<SurfaceVertex> scratch;
-  return scratch;
-}
-
-/// The vertices whose surface height a query asks, with their world (x, z) (m) and, once asked,
-/// the height (m): columns, so that the surface takes them in one call.
-struct HeightRequests {
-  std::vector<std::uint32_t> vertex;
+/// A query's scratch under a free surface (per thread, grown once): the posed vertices, those
+/// whose surface height is asked (index, world x and z, the height), and the triangles that may be
+/// wet. Columns of fixed size filled by a count, so that a vertex costs a few stores.
+struct SurfaceScratch {
+  std::vector<SurfaceVertex> vertices;
+  std::vector<std::uint32_t> asked, wetTriangles;
   std::vector<double> x, z, height;
-  std::size_t size() const { return vertex.size(); }
-  void clear() {
-    vertex.clear();
-    x.clear();
-    z.clear();
-  }
-  void add(std::uint32_t v, double worldX, double worldZ) {
-    vertex.push_back(v);
-    x.push_back(worldX);
-    z.push_back(worldZ);
-    height.resize(vertex.size());
-  }
 };
 
-HeightRequests& heightRequestScratch() {
-  thread_local HeightRequests scratch;
+SurfaceScratch& surfaceScratch() {
+  thread_local SurfaceScratch scratch;
   return scratch;
 }
 
@@ -405,7 +391,8 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
     // Triangles wholly above the surface's highest point are dry without asking the surface
     // (Gerstner waves: a Newton search per call).
     const double highest = surface.heightRange(query.time).second - origin.y();
-    std::vector<SurfaceVertex>& vertices = surfaceVertexScratch();
+    SurfaceScratch& scratch = surfaceScratch();
+    std::vector<SurfaceVertex>& vertices = scratch.vertices;
     vertices.resize(positions.size());
     detail::Footprint footprint;
     for (std::size_t v = 0; v < positions.size(); ++v) {
@@ -413,39 +400,48 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
       vertices[v] = {w.x(), w.y(), w.z(), std::numeric_limits<double>::quiet_NaN()};
       footprint.add(w.x() + origin.x(), w.z() + origin.z());
     }
-    // The vertices of the triangles that may be wet (one under the highest crest), in the mesh's
-    // order, asked the surface at once: a surface may start each search from the last vertex's
-    // answer (waves), and the mesh's order keeps most neighbours near each other.
-    HeightRequests& requests = heightRequestScratch();
-    requests.clear();
-    for (const Eigen::Vector3i& t : mesh.triangles) {
-      const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
-      if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
+    // The triangles that may be wet (one under the highest crest), and their vertices in the
+    // mesh's order, asked the surface at once: a surface may start each search from the last
+    // vertex's answer (waves), and the mesh's order keeps most neighbours near each other.
+    scratch.asked.resize(positions.size());
+    scratch.x.resize(positions.size());
+    scratch.z.resize(positions.size());
+    scratch.height.resize(positions.size());
+    scratch.wetTriangles.resize(mesh.triangles.size());
+    std::size_t askedCount = 0, wetCount = 0;
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+      const Eigen::Vector3i& t = mesh.triangles[k];
+      if (std::min({vertices[t[0]].y, vertices[t[1]].y, vertices[t[2]].y}) >= highest) continue;
+      scratch.wetTriangles[wetCount++] = std::uint32_t(k);
       for (int c = 0; c < 3; ++c) {
         SurfaceVertex& vertex = vertices[t[c]];
-        if (vertex.depth == 0.0) continue;  // already requested (NaN until then)
+        if (vertex.depth == 0.0) continue;  // already asked (NaN until then)
         if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
           return Error{"exact hydrostatics: vertex " + std::to_string(t[c]) + " of the mesh is not finite"};
         vertex.depth = 0.0;
-        requests.add(std::uint32_t(t[c]), vertex.x + origin.x(), vertex.z + origin.z());
+        scratch.asked[askedCount] = std::uint32_t(t[c]);
+        scratch.x[askedCount] = vertex.x + origin.x();
+        scratch.z[askedCount] = vertex.z + origin.z();
+        ++askedCount;
       }
     }
     // The heights from jets over the footprint where that takes fewer surface samples than the
     // vertices would (a Gerstner height is a Newton search; the Wigley hull has 2,113 vertices).
-    detail::SurfaceHeights heights(surface, query.time, footprint, kExactWaveHeightError, double(requests.size()));
-    heights.at(requests.x, requests.z, requests.height);
-    for (std::size_t r = 0; r < requests.size(); ++r) {
-      const double height = requests.height[r];
+    detail::SurfaceHeights heights(surface, query.time, footprint, kExactWaveHeightError, double(askedCount));
+    heights.at(std::span(scratch.x.data(), askedCount), std::span(scratch.z.data(), askedCount),
+               std::span(scratch.height.data(), askedCount));
+    for (std::size_t r = 0; r < askedCount; ++r) {
+      const double height = scratch.height[r];
       if (!std::isfinite(height))
         return Error{"exact hydrostatics: the liquid surface height is not finite (" + std::to_string(height) +
-                     " m) at (x, z) = (" + std::to_string(requests.x[r]) + ", " + std::to_string(requests.z[r]) +
-                     ") m, above vertex " + std::to_string(requests.vertex[r])};
-      SurfaceVertex& vertex = vertices[requests.vertex[r]];
+                     " m) at (x, z) = (" + std::to_string(scratch.x[r]) + ", " + std::to_string(scratch.z[r]) +
+                     ") m, above vertex " + std::to_string(scratch.asked[r])};
+      SurfaceVertex& vertex = vertices[scratch.asked[r]];
       vertex.depth = (height - origin.y()) - vertex.y;
     }
-    for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (std::size_t k = 0; k < wetCount; ++k) {
+      const Eigen::Vector3i& t = mesh.triangles[scratch.wetTriangles[k]];
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
-      if (std::min({p[0]->y, p[1]->y, p[2]->y}) >= highest) continue;
       addClippedWetTriangle(sums, p);
     }
     const double rhoG = surface.density() * query.gravity;
