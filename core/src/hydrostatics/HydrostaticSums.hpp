@@ -26,6 +26,31 @@ struct FlatWettedSums;  // ComputeBackend.hpp
 
 namespace hydrotex::detail {
 
+/// The terms one element adds to the wetted sums (WettedSums::addElement), for any number type:
+/// double, or several elements at once in SIMD lanes (WaveTexelLanes.hpp). `sums` has
+/// WettedSums' sums (sumDA .. wettedArea) as members of type T.
+template <class Sums, class T>
+[[gnu::always_inline]] inline void addElementTerms(Sums& sums, T x, T y, T z, T ax, T ay, T az, T area, T frac, T depth,
+                                                   T depthSq, T localHeight) {
+  sums.sumDA[0] += depth * ax;
+  sums.sumDA[1] += depth * ay;
+  sums.sumDA[2] += depth * az;
+  sums.sumDxA[0] += depth * (y * az - z * ay);
+  sums.sumDxA[1] += depth * (z * ax - x * az);
+  sums.sumDxA[2] += depth * (x * ay - y * ax);
+  sums.sumDXAy += depth * x * ay;
+  sums.sumDZAy += depth * z * ay;
+  sums.sumYB += (T(0.5) * depthSq - localHeight * depth) * ay;
+  const T fay = frac * ay;
+  sums.sumAy += fay;
+  sums.sumXAy += fay * x;
+  sums.sumZAy += fay * z;
+  sums.sumXXAy += fay * x * x;
+  sums.sumXZAy += fay * x * z;
+  sums.sumZZAy += fay * z * z;
+  sums.wettedArea += frac * area;
+}
+
 /// Sums over the wetted surface in a world frame translated to `origin`.
 struct WettedSums {
   double sumDA[3] = {0, 0, 0};     ///< Sum D A (m^3)
@@ -43,23 +68,7 @@ struct WettedSums {
   /// submerged area fraction `frac`, D, Q (see the file comment) and local surface height h'.
   [[gnu::always_inline]] inline void addElement(double x, double y, double z, double ax, double ay, double az, double area, double frac,
                          double depth, double depthSq, double localHeight) {
-    sumDA[0] += depth * ax;
-    sumDA[1] += depth * ay;
-    sumDA[2] += depth * az;
-    sumDxA[0] += depth * (y * az - z * ay);
-    sumDxA[1] += depth * (z * ax - x * az);
-    sumDxA[2] += depth * (x * ay - y * ax);
-    sumDXAy += depth * x * ay;
-    sumDZAy += depth * z * ay;
-    sumYB += (0.5 * depthSq - localHeight * depth) * ay;
-    const double fay = frac * ay;
-    sumAy += fay;
-    sumXAy += fay * x;
-    sumZAy += fay * z;
-    sumXXAy += fay * x * x;
-    sumXZAy += fay * x * z;
-    sumZZAy += fay * z * z;
-    wettedArea += frac * area;
+    addElementTerms(*this, x, y, z, ax, ay, az, area, frac, depth, depthSq, localHeight);
   }
 
   /// MomentCorrectionSums' law (below) for one texel under a plane at o_y (h' = 0, no slope), for

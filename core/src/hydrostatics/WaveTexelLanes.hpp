@@ -36,6 +36,12 @@ struct WaveTexelInput {
   double highest;
 };
 
+/// WettedSums' element sums, one per lane (addElementTerms adds to them).
+template <class L>
+struct WettedLaneSums {
+  L sumDA[3], sumDxA[3], sumDXAy, sumDZAy, sumYB, sumAy, sumXAy, sumZAy, sumXXAy, sumXZAy, sumZZAy, wettedArea;
+};
+
 /// Floats in a packed texel, and where its fields start.
 inline constexpr unsigned kTexelFloats = sizeof(TextureHydrostatics::Texel) / sizeof(float);
 static_assert(sizeof(TextureHydrostatics::Texel) == kTexelFloats * sizeof(float), "a texel is floats only");
@@ -62,9 +68,7 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
   const L centerX = in.centerX, centerZ = in.centerZ, h0 = in.h, slopeX = in.slopeX, slopeZ = in.slopeZ;
   const L cxx = in.curvatureXX, cxz = in.curvatureXZ, czz = in.curvatureZZ, highest = in.highest;
   const L zero = 0.0, one = 1.0, half = 0.5;
-  L sumDA0 = zero, sumDA1 = zero, sumDA2 = zero, sumDxA0 = zero, sumDxA1 = zero, sumDxA2 = zero;
-  L sumDXAy = zero, sumDZAy = zero, sumYB = zero, sumAy = zero, sumXAy = zero, sumZAy = zero;
-  L sumXXAy = zero, sumXZAy = zero, sumZZAy = zero, wettedArea = zero;
+  WettedLaneSums<L> lanes{};  // value-initialized: zeros
   for (std::uint32_t next = in.begin; next < in.end;) {
     // The group [i, i + W): its lanes before `next` were the last group's.
     const std::uint32_t i = next + W <= in.end ? next : in.end - W;
@@ -125,40 +129,22 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
     // WettedSums::addElement on the posed area vector.
     const L ax = field(kAreaVector), ay = field(kAreaVector + 1), az = field(kAreaVector + 2);
     const L wx = x0 * ax + x1 * ay + x2 * az, wy = y0 * ax + y1 * ay + y2 * az, wz = z0 * ax + z1 * ay + z2 * az;
-    sumDA0 += depth * wx;
-    sumDA1 += depth * wy;
-    sumDA2 += depth * wz;
-    sumDxA0 += depth * (y * wz - z * wy);
-    sumDxA1 += depth * (z * wx - x * wz);
-    sumDxA2 += depth * (x * wy - y * wx);
-    sumDXAy += depth * x * wy;
-    sumDZAy += depth * z * wy;
-    sumYB += (half * depthSq - localHeight * depth) * wy;
-    const L fay = fraction * wy;
-    sumAy += fay;
-    sumXAy += fay * x;
-    sumZAy += fay * z;
-    sumXXAy += fay * x * x;
-    sumXZAy += fay * x * z;
-    sumZZAy += fay * z * z;
-    wettedArea += fraction * field(kArea);
+    addElementTerms(lanes, x, y, z, wx, wy, wz, field(kArea), fraction, depth, depthSq, localHeight);
   }
-  out.sumDA[0] += sumDA0.sum();
-  out.sumDA[1] += sumDA1.sum();
-  out.sumDA[2] += sumDA2.sum();
-  out.sumDxA[0] += sumDxA0.sum();
-  out.sumDxA[1] += sumDxA1.sum();
-  out.sumDxA[2] += sumDxA2.sum();
-  out.sumDXAy += sumDXAy.sum();
-  out.sumDZAy += sumDZAy.sum();
-  out.sumYB += sumYB.sum();
-  out.sumAy += sumAy.sum();
-  out.sumXAy += sumXAy.sum();
-  out.sumZAy += sumZAy.sum();
-  out.sumXXAy += sumXXAy.sum();
-  out.sumXZAy += sumXZAy.sum();
-  out.sumZZAy += sumZZAy.sum();
-  out.wettedArea += wettedArea.sum();
+  for (int k = 0; k < 3; ++k) {
+    out.sumDA[k] += lanes.sumDA[k].sum();
+    out.sumDxA[k] += lanes.sumDxA[k].sum();
+  }
+  out.sumDXAy += lanes.sumDXAy.sum();
+  out.sumDZAy += lanes.sumDZAy.sum();
+  out.sumYB += lanes.sumYB.sum();
+  out.sumAy += lanes.sumAy.sum();
+  out.sumXAy += lanes.sumXAy.sum();
+  out.sumZAy += lanes.sumZAy.sum();
+  out.sumXXAy += lanes.sumXXAy.sum();
+  out.sumXZAy += lanes.sumXZAy.sum();
+  out.sumZZAy += lanes.sumZZAy.sum();
+  out.wettedArea += lanes.wettedArea.sum();
   return in.end;
 }
 
