@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Zlib
 // The exact path on a prepared mesh (PreparedPolyhedron.hpp) gives the exact path's answer on the
-// plain mesh at random poses, for convex and non-convex meshes: the same bits under waves and in a
-// medium, and to rounding under a flat surface, where it sums the nodes of a hierarchy of
+// plain mesh at random poses, for convex and non-convex meshes: the same bits under a height grid
+// and in a medium, and to rounding under a flat surface, where it sums the nodes of a hierarchy of
 // triangles instead of the triangles one by one; and it refuses at preparation what polyhedralHydrostatics refuses
-// per call.
+// per call. (Under Gerstner waves it models the surface over its nodes instead of taking it linear
+// between vertices: test_polyhedral_hydrostatics_waves compares it with the per-texel answer.)
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -60,7 +61,12 @@ void requireSameToRounding(const HydrostaticsResult& a, const HydrostaticsResult
 
 TEST_CASE("prepared polyhedron: the same answer as the plain exact path", "[hydrostatics][exact][prepared]") {
   const FlatSurface water(0.2, 1025.0);
-  const GerstnerWaves waves({GerstnerWave{0.1, 6.0, Eigen::Vector2d(1.0, 0.3), 0.0, 0.5}}, 0.2);
+  // A wavy height grid (no smoothness bound: both take the plain path's vertex heights).
+  const int side = 81;
+  HeightGrid waves(side, side, 0.25, -10.0, -10.0, 0.0, 1025.0);
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i)
+      waves.heights()[std::size_t(j) * side + i] = 0.2 + 0.1 * std::sin(0.9 * i * 0.25) * std::cos(0.4 * j * 0.25);
   const UniformMedium air;
   std::mt19937 rng(19);
   std::uniform_real_distribution<double> height(-1.2, 1.2);

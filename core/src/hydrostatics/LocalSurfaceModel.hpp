@@ -47,6 +47,18 @@ struct SurfaceModel {
     slopeX = jet.slopeX + jet.curvatureXX * ux + jet.curvatureXZ * uz;
     slopeZ = jet.slopeZ + jet.curvatureXZ * ux + jet.curvatureZZ * uz;
   }
+  /// The same quadratic expanded about the local point (x, z): the wave part's first moments take
+  /// its quadratic term at the expansion point (WavePart), so a part under a wider part's model
+  /// is best added about its own centre.
+  SurfaceModel recentered(double x, double z) const {
+    SurfaceModel out = *this;
+    out.h = at(x, z);
+    out.jet.height += out.h - h;
+    slope(x, z, out.jet.slopeX, out.jet.slopeZ);
+    out.centerX = x;
+    out.centerZ = z;
+    return out;
+  }
   /// The largest |second directional derivative| of the model (1/m): its Hessian's spectral norm.
   double curvatureNorm() const {
     const double mean = 0.5 * (jet.curvatureXX + jet.curvatureZZ), half = 0.5 * (jet.curvatureXX - jet.curvatureZZ);

@@ -11,11 +11,13 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::detail {
@@ -120,5 +122,15 @@ struct PreparedTriangles {
 /// Error: a non-finite result (a vertex that is NaN or infinite).
 Expected<HydrostaticsResult> flatPolyhedralHydrostatics(const Mesh& mesh, const PreparedTriangles* prepared,
                                                         double level, double density, const HydrostaticsQuery& query);
+
+/// The exact hydrostatics of a prepared closed mesh under a surface that is not flat and offers
+/// smoothness bounds (Gerstner waves): its triangle nodes against local surface models
+/// (PolyhedralHydrostaticsWaves.cpp), the query already validated. Empty when the surface offers
+/// no bounds (height grids: the caller takes the plain path). Errors: a surface height that is
+/// not finite, a non-finite result.
+std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
+                                                                       const PreparedTriangles& prepared,
+                                                                       const LiquidSurface& surface,
+                                                                       const HydrostaticsQuery& query);
 
 }  // namespace hydrotex::detail

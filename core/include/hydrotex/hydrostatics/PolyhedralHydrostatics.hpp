@@ -19,6 +19,20 @@ namespace hydrotex {
 /// (a thirtieth of its 1e-4 m model tolerance), so both paths see the surface alike.
 inline constexpr double kExactWaveHeightError = 1e-4 / 30.0;
 
+/// Under waves, the largest error bound (m) of a local surface model that a prepared mesh's
+/// triangle node, triangle or piece of a triangle takes (LocalSurfaceModel.hpp). A third of the
+/// texture path's default (TextureHydrostaticsSettings::surfaceModelTolerance, 3e-3): a triangle
+/// node spans more than the texture path's tiles and groups of texels do, so its model's error
+/// is nearer its bound. At 3e-3 a wholly submerged 4 m Wigley hull under three waves had forces
+/// 4.5e-4 rho g V off a mesh subdivided to 2 cm edges, at 1e-3 5.2e-5 (the texture path: 3.0e-5);
+/// the 1 m box, the hull of 162 vertices and a 1,280-triangle sphere within 3.6e-5 at both.
+inline constexpr double kExactSurfaceModelTolerance = 1e-3;
+
+/// Under waves, the most (m) that a prepared mesh's triangle the water line crosses may move a
+/// depth by taking its local model linear between corners: such a triangle is split into pieces
+/// until that bound holds, then each is clipped (PolyhedralHydrostaticsWaves.cpp).
+inline constexpr double kExactWaveClipError = 3e-4;
+
 /// Exact hydrostatics of `mesh` (body frame, m) posed by `query` in `surface`.
 /// Surfaces:
 /// - flat (flatHeight()): exact; the force is Archimedes' rho g V up (N) at the centre of buoyancy.
@@ -48,7 +62,8 @@ Expected<HydrostaticsResult> polyhedralHydrostatics(const Mesh& mesh, const Liqu
 /// per-thread scratch of one depth per vertex (8 bytes) grows to the largest mesh the thread has
 /// seen and is reused; under 20 ns per triangle is the goal there (bench_hydrostatics). A body
 /// queried every step is faster still on a PreparedPolyhedron (PreparedPolyhedron.hpp: the checks
-/// made once, each triangle's constants kept; the same bits). Under other free surfaces a
+/// made once, each triangle's constants kept; the same bits, save under Gerstner waves, where it
+/// models the surface over its triangle nodes and is the more accurate). Under other free surfaces a
 /// per-thread scratch of one entry per vertex (32 bytes) grows likewise; the cost is then
 /// dominated by the surface's height queries, one per vertex that may be wet, unless the surface
 /// offers jets and a smoothness bound (Gerstner waves) and a grid of jets over the body's footprint

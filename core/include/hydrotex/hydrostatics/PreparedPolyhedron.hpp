@@ -11,7 +11,10 @@
 /// water line crosses are opened, down to leaves of at most 8 triangles, which go triangle by
 /// triangle, where the cut triangles are clipped. Results agree
 /// with polyhedralHydrostaticsUnchecked on the same mesh to rounding (the same terms summed in
-/// another order); under waves, height grids and media they are its bits.
+/// another order); under height grids and media they are its bits. Under surfaces with
+/// smoothness bounds (Gerstner waves) the nodes are classified against local quadratic models
+/// of the surface, as the texture path's tiles are, instead of taking the surface linear between
+/// the mesh's vertices: see polyhedralHydrostatics below.
 
 #include <cstddef>
 #include <memory>
@@ -52,9 +55,14 @@ class PreparedPolyhedron {
 
 /// Exact hydrostatics of a prepared mesh (as polyhedralHydrostatics, PolyhedralHydrostatics.hpp,
 /// for every surface): under a flat surface from its constants (allocation-free once the thread's
-/// scratch of one depth per vertex has grown); under waves, height grids and media the unprepared
-/// path on its mesh. Errors: an invalid query (validateHydrostaticsQuery), a non-finite surface
-/// height (waves, grids).
+/// scratch of one depth per vertex has grown); under a surface with smoothness bounds (Gerstner
+/// waves) its nodes against local surface models within kExactSurfaceModelTolerance, wholly wet
+/// ones adding their constants and the model's wave part, the triangles the water line crosses
+/// clipped against the model after a split that keeps its linearization within
+/// kExactWaveClipError (a 1 m box face sees waves shorter than itself; the plain path's depths,
+/// linear between the mesh's vertices, do not: test_polyhedral_hydrostatics_waves); under height
+/// grids and media the unprepared path on its mesh. Allocation-free. Errors: an invalid query
+/// (validateHydrostaticsQuery), a non-finite surface height (waves, grids).
 Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
                                                     const HydrostaticsQuery& query);
 

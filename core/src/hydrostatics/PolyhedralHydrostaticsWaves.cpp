@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: Zlib
+/// @file PolyhedralHydrostaticsWaves.cpp
+/// The exact path's hierarchy under waves (issue 19 item 2): a prepared mesh's triangle nodes are
+/// classified against local quadratic models of the surface over their footprints, as the texture
+/// path's tiles are (LocalSurfaceModel.hpp, the same models, bounds and wave part). A node wholly
+/// under its model adds its summed constants and their wave part, O(1); one wholly above is
+/// skipped; a leaf the water line may cross goes triangle by triangle under the leaf's model, or,
+/// where the leaf is too wide for one model within the tolerance, under a model of each triangle
+/// (a triangle too wide for one is split into n^2 similar pieces, each with its own model). A
+/// triangle (or piece) wholly under its model adds its constants to the model's wave part; one
+/// the water line crosses is clipped where the model's depth, taken linear between corners,
+/// changes sign (WetTriangleClipping.hpp), after a split into m^2 pieces so fine that taking the
+/// model linear between their corners moves no depth by more than kExactWaveClipError. So a coarse
+/// mesh (a box's 1 m faces) sees the waves across its faces, which the plain exact path's depths,
+/// linear between the mesh's own vertices, do not (Advisor.hpp: exactLinearizationError), and a
+/// fine one (a ship's hull) pays per triangle only along its water line.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "bake/TexelPosing.hpp"
+#include "hydrostatics/HydrostaticSums.hpp"
+#include "hydrostatics/LocalSurfaceModel.hpp"
+#include "hydrostatics/PolyhedralFlatSums.hpp"
+#include "hydrostatics/WetTriangleClipping.hpp"
+#include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+
+namespace hydrotex::detail {
+namespace {
+
+using Moments = TextureHydrostatics::Moments;
+
+/// The moments of a wholly wet triangle from its constants.
+Moments momentsOf(const TriangleConstants& k) {
+  Moments m;
+  m.sumArea = k.area;
+  for (int a = 0; a < 3; ++a) {
+    m.sumA[a] = k.areaVector[a];
+    for (int i = 0; i < 3; ++i) m.sumPA[i][a] = k.centroid[i] * k.areaVector[a];
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][a] = k.secondMoments[pair] * k.areaVector[a];
+  }
+  return m;
+}
+
+/// The summed moments of a node.
+Moments momentsOf(const TriangleNode& node) {
+  Moments m;
+  m.sumArea = node.area;
+  for (int a = 0; a < 3; ++a) {
+    m.sumA[a] = node.areaVector[a];
+    for (int i = 0; i < 3; ++i) m.sumPA[i][a] = node.firstMoments[i][a];
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][a] = node.secondMoments[pair][a];
+  }
+  return m;
+}
+
+/// A triangle's corners in the body frame and posed (frame o), in the mesh's orientation.
+struct Corners {
+  Eigen::Vector3d body[3];
+  Eigen::Vector3d posed[3];
+};
+
+/// The corners of piece (i, j, up) of `whole` split into n^2 similar pieces: lattice points
+/// L(i, j) = c0 + i/n (c1 - c0) + j/n (c2 - c0); an upward piece is L(i,j), L(i+1,j), L(i,j+1),
+/// a downward one L(i+1,j), L(i+1,j+1), L(i,j+1) (both keep the whole's orientation).
+Corners piece(const Corners& whole, int n, int i, int j, bool up) {
+  const int lattice[2][3][2] = {{{1, 0}, {1, 1}, {0, 1}}, {{0, 0}, {1, 0}, {0, 1}}};
+  const double inv = 1.0 / n;
+  Corners out;
+  for (int c = 0; c < 3; ++c) {
+    const double s = (i + lattice[up][c][0]) * inv, t = (j + lattice[up][c][1]) * inv;
+    out.body[c] = whole.body[0] + s * (whole.body[1] - whole.body[0]) + t * (whole.body[2] - whole.body[0]);
+    out.posed[c] = whole.posed[0] + s * (whole.posed[1] - whole.posed[0]) + t * (whole.posed[2] - whole.posed[0]);
+  }
+  return out;
+}
+
+/// Calls f(piece) for each of the n^2 pieces of `whole`.
+template <typename F>
+void forEachPiece(const Corners& whole, int n, F&& f) {
+  if (n == 1) {
+    f(whole);
+    return;
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n - i; ++j) {
+      f(piece(whole, n, i, j, true));
+      if (j < n - i - 1) f(piece(whole, n, i, j, false));
+    }
+}
+
+/// The longest horizontal (x, z) edge of posed corners, squared (m^2).
+double longestHorizontalEdgeSquared(const Corners& c) {
+  double longest = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& a = c.posed[k];
+    const Eigen::Vector3d& b = c.posed[(k + 1) % 3];
+    longest = std::max(longest, (a.x() - b.x()) * (a.x() - b.x()) + (a.z() - b.z()) * (a.z() - b.z()));
+  }
+  return longest;
+}
+
+// Most pieces per side of a triangle split for its models, and of a piece split for clipping.
+constexpr int kMaxModelSplit = 32;
+constexpr int kMaxClipSplit = 16;
+
+}  // namespace
+
+std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
+                                                                       const PreparedTriangles& prepared,
+                                                                       const LiquidSurface& surface,
+                                                                       const HydrostaticsQuery& query) {
+  const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
+  if (!smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) || !std::isfinite(smooth->third) ||
+      !std::isfinite(smooth->fourth) || prepared.nodes.empty())
+    return std::nullopt;
+  const Eigen::Matrix3d& r = query.pose.rotation;
+  const Eigen::Vector3d& t = query.pose.translation;
+  // The frame origin, force model and water plane of the texture path under waves:
+  // o = (t_x, h(x_G, z_G), t_z), pressure sums, the stiffness about the plane through o.
+  const Eigen::Vector3d centerOfMass = query.pose.apply(query.centerOfMass);
+  const double originHeight = surface.surfaceHeight(centerOfMass.x(), centerOfMass.z(), query.time);
+  if (!std::isfinite(originHeight))
+    return Expected<HydrostaticsResult>(Error{"exact hydrostatics: the liquid surface height is not finite (" +
+                                              std::to_string(originHeight) + " m) above the centre of mass"});
+  const Eigen::Vector3d origin(t.x(), originHeight, t.z());
+  const Eigen::Vector3d offset = t - origin;
+  const double highest = surface.heightRange(query.time).second - origin.y();
+  const Eigen::Vector3d xRow = r.row(0).transpose(), zRow = r.row(2).transpose();
+
+  const TriangleNode& root = prepared.nodes.front();
+  const Eigen::Vector3d rootCenter(root.center[0], root.center[1], root.center[2]);
+  const Eigen::Vector3d rootHalf(root.halfExtent[0], root.halfExtent[1], root.halfExtent[2]);
+  double lowX, highX, lowZ, highZ;
+  axisRange(rootCenter, rootHalf, r, 0, offset.x(), lowX, highX);
+  axisRange(rootCenter, rootHalf, r, 2, offset.z(), lowZ, highZ);
+  LocalSurfaceModels models(surface, query.time, origin, *smooth, lowX, highX, lowZ, highZ,
+                            kExactSurfaceModelTolerance, 0.0, r, offset);
+  WettedSums sums;
+  bool surfaceFailed = false;  // a corner's height from the surface itself was not finite
+
+  // Clips the triangle `c` where the depth below the model (or, model null, below the surface's own
+  // heights at its corners) changes sign, split first so that the model, taken linear between
+  // the pieces' corners, moves no depth by more than kExactWaveClipError: the linear
+  // interpolant's error on a triangle is at most |E| e^2 / 6 (|E| the model's largest second
+  // derivative, e the longest horizontal edge: Sum lambda_i |x - x_i|^2 <= e^2 / 3).
+  auto clip = [&](const Corners& c, const SurfaceModel* model, double curvature, double edgeSquared) {
+    int m = 1;
+    if (model) {
+      const double needed = std::sqrt(edgeSquared * curvature / (6.0 * kExactWaveClipError));
+      m = std::clamp(int(std::ceil(needed)), 1, kMaxClipSplit);
+    }
+    // The (m + 1)(m + 2) / 2 lattice points L(i, j) = c0 + i/m (c1 - c0) + j/m (c2 - c0), row i
+    // holding m + 1 - i of them, each with its depth, then the m^2 pieces between them.
+    SurfaceVertex lattice[(kMaxClipSplit + 1) * (kMaxClipSplit + 2) / 2];
+    const double inv = 1.0 / m;
+    const Eigen::Vector3d u = (c.posed[1] - c.posed[0]) * inv, v = (c.posed[2] - c.posed[0]) * inv;
+    int count = 0;
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; j <= m - i; ++j) {
+        const Eigen::Vector3d w = c.posed[0] + double(i) * u + double(j) * v;
+        const double height = model ? model->at(w.x(), w.z())
+                                    : surface.surfaceHeight(w.x() + origin.x(), w.z() + origin.z(), query.time) -
+                                          origin.y();
+        if (!std::isfinite(height)) surfaceFailed = true;
+        lattice[count++] = {w.x(), w.y(), w.z(), height - w.y()};
+      }
+    const auto at = [&](int i, int j) { return &lattice[i * (m + 1) - i * (i - 1) / 2 + j]; };
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m - i; ++j) {
+        const SurfaceVertex* up[3] = {at(i, j), at(i + 1, j), at(i, j + 1)};
+        addClippedWetTriangle(sums, up);
+        if (j < m - i - 1) {
+          const SurfaceVertex* down[3] = {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+          addClippedWetTriangle(sums, down);
+        }
+      }
+  };
+  // The triangle `c` under `model` (`curvature`: its curvatureNorm()): true when wholly under it
+  // (the caller adds its moments to the model's wave part); wholly over, nothing; else clipped.
+  auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature) {
+    const double edgeSquared = longestHorizontalEdgeSquared(c);
+    const double margin = curvature * edgeSquared / 6.0;
+    double lowest = INFINITY, highestDepth = -INFINITY;
+    for (const Eigen::Vector3d& w : c.posed) {
+      const double depth = model.at(w.x(), w.z()) - w.y();
+      lowest = std::min(lowest, depth);
+      highestDepth = std::max(highestDepth, depth);
+    }
+    if (lowest > margin) return true;
+    if (highestDepth >= -margin) clip(c, &model, curvature, edgeSquared);
+    return false;
+  };
+  // A triangle with a model of its own, or split into pieces that each have one.
+  auto addAlone = [&](const Corners& c, const TriangleConstants& k) {
+    // Its footprint's radius about its horizontal centroid; its n^2 pieces are similar to it,
+    // each 1/n of its size.
+    const double cx = (c.posed[0].x() + c.posed[1].x() + c.posed[2].x()) / 3.0;
+    const double cz = (c.posed[0].z() + c.posed[1].z() + c.posed[2].z()) / 3.0;
+    double radius = 0.0;
+    for (const Eigen::Vector3d& w : c.posed)
+      radius = std::max(radius, (w.x() - cx) * (w.x() - cx) + (w.z() - cz) * (w.z() - cz));
+    radius = std::sqrt(radius);
+    int n = 1;
+    while (n < kMaxModelSplit && !(models.boundOver(radius / n) <= models.tolerance())) ++n;
+    forEachPiece(c, n, [&](const Corners& p) {
+      const double px = (p.posed[0].x() + p.posed[1].x() + p.posed[2].x()) / 3.0;
+      const double pz = (p.posed[0].z() + p.posed[1].z() + p.posed[2].z()) / 3.0;
+      SurfaceModel model;
+      if (!models.over(ModelFootprint{px, pz, 0.0, 0.0, radius / n}, model)) {
+        clip(p, nullptr, 0.0, 0.0);  // no model within the tolerance: the surface's own heights at its corners
+        return;
+      }
+      if (addUnder(p, model, model.curvatureNorm()))
+        models.addSubmerged(
+            momentsOf(n == 1 ? k : triangleConstants(p.body[0].data(), p.body[1].data(), p.body[2].data())),
+            (p.body[0] + p.body[1] + p.body[2]) / 3.0, model);
+    });
+  };
+
+  const auto& positions = mesh.positions;
+  const std::vector<TriangleNode>& nodes = prepared.nodes;
+  // The model of the widest node open on the walk that has one: it covers the node's subtree
+  // (its descendants take it, as the texture path's tiles take their group's, each expanded
+  // about its own centre), until the walk leaves the subtree at `end`.
+  struct Covering {
+    std::size_t end;
+    SurfaceModel model;
+    double curvature;  // model.curvatureNorm()
+  };
+  std::optional<Covering> covering;
+  for (std::size_t i = 0; i < nodes.size();) {
+    if (covering && i >= covering->end) covering.reset();
+    const TriangleNode& node = nodes[i];
+    const Eigen::Vector3d center(node.center[0], node.center[1], node.center[2]);
+    const Eigen::Vector3d half(node.halfExtent[0], node.halfExtent[1], node.halfExtent[2]);
+    double low, high;
+    verticalRange(center, half, r, offset.y(), low, high);
+    if (low >= highest) {  // above every crest
+      i = node.next;
+      continue;
+    }
+    const ModelFootprint f = boxFootprint(center, half, INFINITY, xRow, zRow, offset);
+    if (!covering) {
+      SurfaceModel model;
+      if (models.over(f, model)) covering = Covering{node.next, model, model.curvatureNorm()};
+    }
+    if (covering) {
+      const SurfaceModel& model = covering->model;
+      double modelLow, modelHigh;
+      model.range(f.x, f.z, f.reachX, f.reachZ, modelLow, modelHigh);
+      if (low >= modelHigh) {
+        i = node.next;
+        continue;
+      }
+      if (high <= modelLow) {
+        models.addSubmerged(momentsOf(node), center, model.recentered(f.x, f.z));
+        i = node.next;
+        continue;
+      }
+    }
+    if (node.next != i + 1) {  // an inner node the water line may cross: its children
+      ++i;
+      continue;
+    }
+    // The leaf's triangles one by one; when every one of them is wholly under the model, the
+    // node's summed moments instead of theirs.
+    Moments submerged;
+    std::uint32_t under = 0;
+    for (std::uint32_t k = node.begin; k < node.end; ++k) {
+      const Eigen::Vector3i& tri = prepared.triangles[k];
+      Corners c;
+      double lowest = INFINITY;
+      for (int a = 0; a < 3; ++a) {
+        c.body[a] = positions[std::size_t(tri[a])];
+        c.posed[a] = r * c.body[a] + offset;
+        lowest = std::min(lowest, c.posed[a].y());
+      }
+      if (lowest >= highest) continue;
+      if (!covering) {
+        addAlone(c, prepared.constants[k]);
+      } else if (addUnder(c, covering->model, covering->curvature)) {
+        submerged.add(momentsOf(prepared.constants[k]));
+        ++under;
+      }
+    }
+    if (under > 0) {
+      if (under == node.end - node.begin) submerged = momentsOf(node);
+      models.addSubmerged(submerged, center, covering->model.recentered(f.x, f.z));
+    }
+    i = node.next;
+  }
+  if (surfaceFailed)
+    return Expected<HydrostaticsResult>(
+        Error{"exact hydrostatics: the liquid surface height is not finite at a corner of a wet triangle"});
+
+  models.addFlatPart(sums);
+  models.addWavePart(sums);
+  const double rhoG = surface.density() * query.gravity;
+  for (int k = 0; k < 3; ++k) {
+    sums.pressureForce[k] = -rhoG * sums.sumDA[k];
+    sums.pressureTorque[k] = -rhoG * sums.sumDxA[k];
+  }
+  HydrostaticsResult result = finishHydrostatics(sums, origin, surface.density(), query, ForceModel::PressureSums, true);
+  if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
+    return Expected<HydrostaticsResult>(Error{"exact hydrostatics: non-finite result (a vertex of the mesh is NaN or infinite)"});
+  return Expected<HydrostaticsResult>(std::move(result));
+}
+
+}  // namespace hydrotex::detail
