@@ -3,8 +3,9 @@
 /// HydrostaticsMethod::Auto: core's cost model and, where the texture path is cheaper, the advisor's
 /// error measurement restricted to the body's own resolution, so that Auto chooses the path and
 /// never changes the bake the user asked for;
-/// under waves the exact path's error from linearizing the surface between vertices (which the
-/// advisor, measuring in flat water, cannot see) is bounded by core's exactLinearizationError.
+/// under a surface the prepared exact path cannot model (no smoothness bound), its error from
+/// linearizing the surface between vertices (which the advisor, measuring in flat water, cannot
+/// see) is core's preparedExactSurfaceError.
 
 #include "MethodChoice.hpp"
 
@@ -25,8 +26,10 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
   const double target = settings.autoMethodError;
   const Expected<MassProperties> solid = polyhedralMassProperties(mesh, 1.0);
   if (!solid) return HydrostaticsMethod::Polyhedral;  // addBody names the mesh's defect itself
-  // The exact path's error: none in flat water; under waves, linearizing the surface between vertices.
-  const double exactError = exactLinearizationError(mesh, solid->volume, surface);
+  // The exact path's error: none in flat water, nor beyond its local surface models under waves
+  // (the texture path's kind, which neither path's figure here counts); under other surfaces,
+  // linearizing the surface between vertices.
+  const double exactError = preparedExactSurfaceError(mesh, solid->volume, surface);
   // Costs from core's model, not a timing: the same choice on every machine and run, so that a
   // scene's trajectory does not depend on the load of the machine that registered it.
   const double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0);

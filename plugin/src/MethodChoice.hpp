@@ -14,7 +14,7 @@ namespace hydrotex::bullet {
 
 /// `settings.method` unless it is Auto; for Auto, Texture for a deforming body, else the exact
 /// path when core's cost model (modeledMicrosecondsPerQuery) finds it the cheaper and its error
-/// (none in flat water; exactLinearizationError under waves) is within settings.autoMethodError;
+/// (core's preparedExactSurfaceError) is within settings.autoMethodError;
 /// else core's adviseHydrostatics measures the texture path's error at the body's resolution (in
 /// flat water, times modeled): the texture path when it meets the target and is the cheaper or the
 /// exact path does not meet it, the exact path when it meets the target, else whichever errs less.

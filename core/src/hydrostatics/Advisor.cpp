@@ -277,4 +277,15 @@ double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurf
   return (*curvature * longest / 8.0 + kExactWaveHeightError) * largestFace / volume;
 }
 
+double preparedExactSurfaceError(const Mesh& mesh, double volume, const LiquidSurface& surface, double time) {
+  if (surface.flatHeight() || !surface.hasFreeSurface()) return 0.0;
+  // The prepared path's hierarchy serves exactly the surfaces with smoothness bounds
+  // (wavePolyhedralHydrostatics); any other goes the plain path's way.
+  const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
+  if (smooth && std::isfinite(smooth->third) && std::isfinite(smooth->fourth) && smooth->third >= 0.0 &&
+      smooth->fourth >= 0.0)
+    return 0.0;
+  return exactLinearizationError(mesh, volume, surface);
+}
+
 }  // namespace hydrotex

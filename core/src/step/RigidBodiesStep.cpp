@@ -167,8 +167,8 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
     } else if (task.sphereRadius || task.exactPrepared != nullptr || task.exactMesh != nullptr) {
       ++counters.hydrostaticsQueries;
       const HydrostaticsQuery query = queryOf(task);
-      // A sphere in flat water in closed form; the prepared mesh gives the same bits as the mesh
-      // itself (PreparedPolyhedron.hpp), faster.
+      // A sphere in flat water in closed form; the prepared mesh gives the mesh's own answer
+      // (PreparedPolyhedron.hpp), faster, and under waves models the surface over its triangles.
       const bool closedForm = task.sphereRadius && batch.surface.flatHeight().has_value();
       if (Expected<HydrostaticsResult> exact =
               closedForm                       ? sphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), batch.surface, query)

@@ -171,4 +171,13 @@ std::optional<double> surfaceCurvatureBound(const LiquidSurface& surface);
 /// or a medium; +infinity when the curvature is unknown.
 double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurface& surface);
 
+/// Relative error (of the body's volume), beyond its flat-water exactness, of the exact path on a
+/// prepared mesh (PreparedPolyhedron: what the controller runs) under `surface` at `time` (s): 0
+/// under a flat surface or a medium, and under a surface with smoothness bounds (Gerstner waves),
+/// where it takes the surface from local models as the texture path does (their error, which both
+/// paths carry and neither bound counts, is measured by test_polyhedral_hydrostatics_waves: within
+/// 4.5e-5 V of the per-texel answer, and by test_texture_hydrostatics_waves for the texture path);
+/// else exactLinearizationError (height grids: +infinity).
+double preparedExactSurfaceError(const Mesh& mesh, double volume, const LiquidSurface& surface, double time = 0.0);
+
 }  // namespace hydrotex
