@@ -11,12 +11,14 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bake/SurfaceBake.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
@@ -116,10 +118,12 @@ std::vector<WavesRow> wavesTable(int rounds) {
   return rows;
 }
 
-/// The exact path under waves (issue 19 item 2) against the same body in flat water: a ~300- and a
-/// ~3000-triangle sphere half submerged and tilted, flat and wavy queries timed in alternation
-/// (the same load on a shared machine), medians over the rounds; and a surfaceHeight call alone,
-/// which the wavy query makes once per vertex that may be wet.
+/// The exact path under waves (issue 19 item 2) against the same body in flat water: a 12-triangle
+/// box, a ~300- and a ~3000-triangle sphere half submerged and tilted, flat and wavy queries timed
+/// in alternation (the same load on a shared machine), medians over the rounds; the plain path
+/// (the surface linear between vertices) and the prepared one (PreparedPolyhedron: local surface
+/// models over its triangle nodes, what the controller runs); and a surfaceHeight call alone,
+/// which the plain wavy query makes once per vertex that may be wet.
 void exactWavesTable(int rounds) {
   const GerstnerWaves swell({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
                              GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
@@ -128,21 +132,28 @@ void exactWavesTable(int rounds) {
   HydrostaticsQuery query;
   query.pose = Pose::fromDegreesXYZ(Eigen::Vector3d(20, 10, 5), Eigen::Vector3d(0.0, 0.1, 0.0));
   query.time = 3.0;
-  const std::vector<std::pair<std::string, Mesh>> bodies = {{"icosphere 2", primitives::icosphere(1.0, 2)},
+  const std::vector<std::pair<std::string, Mesh>> bodies = {{"box 1 x 0.5 x 1", primitives::box({1.0, 0.5, 1.0})},
+                                                            {"icosphere 2", primitives::icosphere(1.0, 2)},
                                                             {"uv sphere 48 x 32", primitives::uvSphere(1.0, 48, 32)},
                                                             {"uv sphere 96 x 48", primitives::uvSphere(1.0, 96, 48)}};
-  std::printf("%-20s %10s %10s %10s %10s %7s\n", "exact path", "triangles", "vertices", "flat us", "waves us", "ratio");
+  std::printf("%-20s %10s %10s %10s %10s %7s %12s %12s %7s\n", "exact path", "triangles", "vertices", "flat us",
+              "waves us", "ratio", "prep flat us", "prep waves", "ratio");
   for (const auto& [name, mesh] : bodies) {
-    std::vector<double> flat, wavy;
+    const PreparedPolyhedron prepared = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(mesh)).value();
+    std::vector<double> flat, wavy, preparedFlat, preparedWavy;
     for (int round = 0; round < rounds; ++round) {
       flat.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostaticsUnchecked(mesh, water, query)->submergedVolume; }, 3));
       wavy.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostaticsUnchecked(mesh, swell, query)->submergedVolume; }, 3));
+      preparedFlat.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostatics(prepared, water, query)->submergedVolume; }, 3));
+      preparedWavy.push_back(medianSecondsPerCall([&] { sink = sink + polyhedralHydrostatics(prepared, swell, query)->submergedVolume; }, 3));
     }
-    std::sort(flat.begin(), flat.end());
-    std::sort(wavy.begin(), wavy.end());
-    const double f = flat[flat.size() / 2] * 1e6, w = wavy[wavy.size() / 2] * 1e6;
-    std::printf("%-20s %10zu %10zu %10.2f %10.2f %7.2f\n", name.c_str(), mesh.triangles.size(), mesh.positions.size(), f, w,
-                w / f);
+    const auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2] * 1e6;
+    };
+    const double f = median(flat), w = median(wavy), pf = median(preparedFlat), pw = median(preparedWavy);
+    std::printf("%-20s %10zu %10zu %10.2f %10.2f %7.2f %12.2f %12.2f %7.2f\n", name.c_str(), mesh.triangles.size(),
+                mesh.positions.size(), f, w, w / f, pf, pw, pw / pf);
   }
   double x = 0.0;
   const double seconds = medianSecondsPerCall([&] {

@@ -214,10 +214,10 @@ TEST_CASE("Exact path on a prepared mesh under waves: local surface models again
   // every texel's centre; its own resolution error is about 1e-5 V at 256^2) at many poses and
   // phases. The plain exact path on the same coarse meshes is off by up to 2.8e-2 V (the 12-
   // triangle box under bench_peers' swell, against a mesh subdivided to 2 cm edges; the prepared
-  // path 2.8e-5). Measured over these poses (the WARN below), the largest differences: volume
-  // 4.5e-5 V, force 1.0e-4 rho g V, torque 9.6e-5 rho g V m (both the Wigley hull under
-  // log_waves' 0.3 m waves), V c_B 3.3e-5 V m, water plane 1.3e-3 of its area (the box). The
-  // bounds are about twice those.
+  // path 2.3e-5). Measured over these poses (the WARN below), the largest differences: volume
+  // 4.4e-5 V, force 9.4e-5 rho g V, torque 9.6e-5 rho g V m (the Wigley hull under log_waves'
+  // 0.3 m waves), V c_B 3.9e-5 V m (under the swell), water plane 1.3e-3 of its area (the box).
+  // The bounds are about twice those.
   struct Body {
     std::string name;
     Mesh mesh;

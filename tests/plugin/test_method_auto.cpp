@@ -50,7 +50,7 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
   // 0.325 1/m. A 1 x 0.5 x 1 m box of 12 triangles (longest edge sqrt 2 m): the plain exact path,
   // which takes the surface linear between vertices, may err 0.325 x 2 / 8 x 1 m^2 / 0.5 m^3 =
   // 0.16 of the volume. The prepared path the controller runs models the surface over its
-  // triangles instead (test_polyhedral_hydrostatics_waves: within 4.5e-5 V of the per-texel
+  // triangles instead (test_polyhedral_hydrostatics_waves: within 4.4e-5 V of the per-texel
   // answer, this box under this sea 2.2e-5): beyond its flat-water exactness it has no error of
   // its own to count, and it is the cheaper: the exact path.
   const auto logWaves = std::make_shared<GerstnerWaves>(

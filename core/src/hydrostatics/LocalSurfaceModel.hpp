@@ -150,6 +150,35 @@ struct WavePart {
     }
     squaredY += square;
   }
+
+  /// add() for one triangle, expanded about its centroid c: its moments are rank one (Sum A = A,
+  /// Sum p A = c A^T, Sum p p^T A = S A^T with S its second moments per area), so every sum is A_k
+  /// times a scalar: with ES = Sum e_ij S_ij and cEc, W0 += (h + ES - cEc) A,
+  /// W1(j, k) += (l c_j + c_j (ES - cEc) + (S d)_j) A_k (l = h - d . c), and
+  /// sum q^2 (r1 . A) += (r1 . A) (l^2 + 2 h (ES - cEc) + 2 l d . c + d^T S d). About 60 operations
+  /// where add() takes some 250.
+  void addTriangle(const double (&a)[3], const double (&c)[3], const double (&secondMoments)[6], double h,
+                   const double (&d)[3], const double (&e)[3][3], const Eigen::Vector3d& yRow) {
+    constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+    double es = 0.0, cec = 0.0, dc = 0.0, sd[3], dsd = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      dc += d[i] * c[i];
+      sd[i] = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        es += e[i][j] * secondMoments[kPair[i][j]];
+        cec += c[i] * e[i][j] * c[j];
+        sd[i] += secondMoments[kPair[i][j]] * d[j];
+      }
+      dsd += d[i] * sd[i];
+    }
+    const double linear0 = h - dc, quadratic = es - cec;
+    for (int k = 0; k < 3; ++k) {
+      w0[k] += (h + quadratic) * a[k];
+      for (int j = 0; j < 3; ++j) w1[j][k] += (linear0 * c[j] + c[j] * quadratic + sd[j]) * a[k];
+    }
+    const double ay = a[0] * yRow[0] + a[1] * yRow[1] + a[2] * yRow[2];
+    squaredY += ay * (linear0 * linear0 + 2.0 * h * quadratic + 2.0 * linear0 * dc + dsd);
+  }
 };
 
 /// The local models of one query under a surface with smoothness bounds, over the body's
@@ -195,7 +224,14 @@ class LocalSurfaceModels {
   /// The model over a footprint; false when its bound exceeds the tolerance or a sample is missing.
   bool over(const ModelFootprint& f, SurfaceModel& model) {
     model.bound = boundOver(f.radius);
-    if (!(model.bound <= tolerance_) || !grid_.interpolate(f.x, f.z, model.jet)) return false;
+    return model.bound <= tolerance_ && anyOver(f, model);
+  }
+
+  /// The model over a footprint whatever its bound (to classify a part wholly over or under it,
+  /// not to integrate under it); false when a sample is missing or the bound is not finite.
+  bool anyOver(const ModelFootprint& f, SurfaceModel& model) {
+    model.bound = boundOver(f.radius);
+    if (!std::isfinite(model.bound) || !grid_.interpolate(f.x, f.z, model.jet)) return false;
     model.centerX = f.x;
     model.centerZ = f.z;
     model.h = model.jet.height - originHeight_;
@@ -205,17 +241,25 @@ class LocalSurfaceModels {
   /// Adds wholly submerged moments `m` (body frame) under `model`, expanded about the body-frame
   /// point c (the model's centre).
   void addSubmerged(const TextureHydrostatics::Moments& m, const Eigen::Vector3d& c, const SurfaceModel& model) {
-    const SurfaceJet& jet = model.jet;
     double d[3], e[3][3];
-    for (int i = 0; i < 3; ++i) {
-      d[i] = jet.slopeX * xRow_[i] + jet.slopeZ * zRow_[i];
-      for (int j = 0; j < 3; ++j)
-        e[i][j] = 0.5 * (jet.curvatureXX * xRow_[i] * xRow_[j] +
-                         jet.curvatureXZ * (xRow_[i] * zRow_[j] + zRow_[i] * xRow_[j]) +
-                         jet.curvatureZZ * zRow_[i] * zRow_[j]);
-    }
+    modelTerms(model, d, e);
     wave_.add(m, c, model.h, d, e, yRow_);
     under_.add(m);
+  }
+
+  /// addSubmerged() for one triangle (body frame: `area` m^2, area vector `a`, centroid `c`, second
+  /// moments per area `secondMoments`) under `model`, which must be centred above c.
+  void addSubmergedTriangle(double area, const double (&a)[3], const double (&c)[3],
+                            const double (&secondMoments)[6], const SurfaceModel& model) {
+    double d[3], e[3][3];
+    modelTerms(model, d, e);
+    wave_.addTriangle(a, c, secondMoments, model.h, d, e, yRow_);
+    under_.sumArea += area;
+    for (int k = 0; k < 3; ++k) {
+      under_.sumA[k] += a[k];
+      for (int i = 0; i < 3; ++i) under_.sumPA[i][k] += c[i] * a[k];
+      for (int pair = 0; pair < 6; ++pair) under_.sumPPA[pair][k] += secondMoments[pair] * a[k];
+    }
   }
 
   /// Adds the flat part (depth -y', h' = 0) of the submerged parts' sums to `sums`.
@@ -247,6 +291,18 @@ class LocalSurfaceModels {
   }
 
  private:
+  // The model's slope and half curvature in the body frame: q = h + d . v + v^T E v (WavePart).
+  void modelTerms(const SurfaceModel& model, double (&d)[3], double (&e)[3][3]) const {
+    const SurfaceJet& jet = model.jet;
+    for (int i = 0; i < 3; ++i) {
+      d[i] = jet.slopeX * xRow_[i] + jet.slopeZ * zRow_[i];
+      for (int j = 0; j < 3; ++j)
+        e[i][j] = 0.5 * (jet.curvatureXX * xRow_[i] * xRow_[j] +
+                         jet.curvatureXZ * (xRow_[i] * zRow_[j] + zRow_[i] * xRow_[j]) +
+                         jet.curvatureZZ * zRow_[i] * zRow_[j]);
+    }
+  }
+
   SurfaceSmoothness smooth_;
   double tolerance_, originHeight_;
   SurfaceJetGrid grid_;

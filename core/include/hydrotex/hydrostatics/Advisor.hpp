@@ -176,7 +176,7 @@ double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurf
 /// under a flat surface or a medium, and under a surface with smoothness bounds (Gerstner waves),
 /// where it takes the surface from local models as the texture path does (their error, which both
 /// paths carry and neither bound counts, is measured by test_polyhedral_hydrostatics_waves: within
-/// 4.5e-5 V of the per-texel answer, and by test_texture_hydrostatics_waves for the texture path);
+/// 4.4e-5 V of the per-texel answer, and by test_texture_hydrostatics_waves for the texture path);
 /// else exactLinearizationError (height grids: +infinity).
 double preparedExactSurfaceError(const Mesh& mesh, double volume, const LiquidSurface& surface, double time = 0.0);
 
