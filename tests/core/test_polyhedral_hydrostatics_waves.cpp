@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -68,6 +69,30 @@ class HoleySurface final : public LiquidSurface {
   double density() const override { return 1000.0; }
   Status validate() const override { return Ok{}; }
 };
+
+/// Query i of a sweep: a random orientation, half near the origin at t in [0, 10] s, half 400 m
+/// out at t ~ 1000 s, the level within +-`reach` (m) of the mean surface.
+HydrostaticsQuery sweepQuery(std::mt19937& rng, int i, double reach) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const bool far = i % 2 == 1;
+  HydrostaticsQuery query;
+  query.pose = Pose{randomRotation(rng), Eigen::Vector3d(3.0 * unit(rng) + (far ? 400.0 : 0.0), reach * unit(rng),
+                                                          3.0 * unit(rng) - (far ? 250.0 : 0.0))};
+  query.time = far ? 1000.0 + unit(rng) : 5.0 + 5.0 * unit(rng);
+  query.gravity = kG;
+  return query;
+}
+
+/// Differences of `e` from `t`: volume (of `volume`), force and torque (of `weight`; the torque in
+/// m) and V c_B about the body origin (of `volume`, m).
+std::array<double, 4> differencesFrom(const HydrostaticsResult& e, const HydrostaticsResult& t, double volume,
+                                      double weight, const HydrostaticsQuery& query) {
+  return {std::abs(e.submergedVolume - t.submergedVolume) / volume,
+          (e.buoyancyForce - t.buoyancyForce).norm() / weight,
+          (e.torqueAboutCenterOfMass - t.torqueAboutCenterOfMass).norm() / weight,
+          (e.submergedVolume * (e.centerOfBuoyancy - query.pose.translation) -
+           t.submergedVolume * (t.centerOfBuoyancy - query.pose.translation)).norm() / volume};
+}
 
 }  // namespace
 
@@ -169,27 +194,15 @@ TEST_CASE("Exact path under waves: against the texture path's per-texel answer a
       INFO(b.name << " under " << sea.name);
       const double weight = sea.waves.density() * kG * volume;
       std::mt19937 rng(21);
-      std::uniform_real_distribution<double> unit(-1.0, 1.0);
       double largest[4] = {0, 0, 0, 0};
       for (int i = 0; i < 16; ++i) {
-        // Half near the origin at t in [0, 10] s, half 400 m out at t ~ 1000 s; levels from
-        // barely touching to wholly under.
-        const bool far = i % 2 == 1;
-        HydrostaticsQuery query;
-        query.pose = Pose{randomRotation(rng), Eigen::Vector3d(3.0 * unit(rng) + (far ? 400.0 : 0.0), 0.9 * unit(rng),
-                                                                3.0 * unit(rng) - (far ? 250.0 : 0.0))};
-        query.time = far ? 1000.0 + unit(rng) : 5.0 + 5.0 * unit(rng);
-        query.gravity = kG;
+        // Levels from barely touching to wholly under.
+        const HydrostaticsQuery query = sweepQuery(rng, i, 0.9);
         const HydrostaticsResult e = exactAnswer(b.mesh, sea.waves, query);
         const auto t = texture.query(sea.waves, query, TexelTraversal::BruteForce);
         REQUIRE(t.ok());
         INFO("pose " << i << ": volume " << t->submergedVolume << " of " << volume);
-        const double differences[4] = {
-            std::abs(e.submergedVolume - t->submergedVolume) / volume,
-            (e.buoyancyForce - t->buoyancyForce).norm() / weight,
-            (e.torqueAboutCenterOfMass - t->torqueAboutCenterOfMass).norm() / weight,  // m
-            (e.submergedVolume * (e.centerOfBuoyancy - query.pose.translation) -
-             t->submergedVolume * (t->centerOfBuoyancy - query.pose.translation)).norm() / volume};  // m
+        const std::array<double, 4> differences = differencesFrom(e, *t, volume, weight, query);
         for (int k = 0; k < 4; ++k) largest[k] = std::max(largest[k], differences[k]);
         CHECK(differences[0] <= b.volumeBound);
         CHECK(differences[1] <= b.forceBound);
@@ -236,26 +249,15 @@ TEST_CASE("Exact path on a prepared mesh under waves: local surface models again
       INFO(b.name << " under " << sea.name);
       const double weight = sea.waves.density() * kG * volume;
       std::mt19937 rng(23);
-      std::uniform_real_distribution<double> unit(-1.0, 1.0);
       double largest[4] = {0, 0, 0, 0};
       for (int i = 0; i < 12; ++i) {
-        const bool far = i % 2 == 1;
-        HydrostaticsQuery query;
-        query.pose = Pose{randomRotation(rng), Eigen::Vector3d(3.0 * unit(rng) + (far ? 400.0 : 0.0), 0.6 * unit(rng),
-                                                                3.0 * unit(rng) - (far ? 250.0 : 0.0))};
-        query.time = far ? 1000.0 + unit(rng) : 5.0 + 5.0 * unit(rng);
-        query.gravity = kG;
+        const HydrostaticsQuery query = sweepQuery(rng, i, 0.6);
         const Expected<HydrostaticsResult> e = polyhedralHydrostatics(*prepared, sea.waves, query);
         REQUIRE(e.ok());
         const auto t = texture.query(sea.waves, query, TexelTraversal::BruteForce);
         REQUIRE(t.ok());
         INFO("pose " << i << ": volume " << t->submergedVolume << " of " << volume);
-        const double differences[4] = {
-            std::abs(e->submergedVolume - t->submergedVolume) / volume,
-            (e->buoyancyForce - t->buoyancyForce).norm() / weight,
-            (e->torqueAboutCenterOfMass - t->torqueAboutCenterOfMass).norm() / weight,  // m
-            (e->submergedVolume * (e->centerOfBuoyancy - query.pose.translation) -
-             t->submergedVolume * (t->centerOfBuoyancy - query.pose.translation)).norm() / volume};  // m
+        const std::array<double, 4> differences = differencesFrom(*e, *t, volume, weight, query);
         for (int k = 0; k < 4; ++k) largest[k] = std::max(largest[k], differences[k]);
         CHECK(differences[0] <= 1e-4);
         CHECK(differences[1] <= 2e-4);
