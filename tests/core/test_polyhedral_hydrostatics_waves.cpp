@@ -276,6 +276,30 @@ TEST_CASE("Exact path on a prepared mesh under waves: local surface models again
                                   << largestOverall[2] << ", V c_B " << largestOverall[3]);
 }
 
+TEST_CASE("Exact path on a prepared mesh under waves far shorter than its faces: the plain path's linearization",
+          "[hydrostatics][polyhedral][prepared][waves]") {
+  // 0.3 m waves under a 10 m box: no split of its 10 m faces into at most 16^2 pieces gives each
+  // a model within the tolerance (third derivative ~ A k^3 = 0.02 x 21^3 = 185 1/m^2: a piece
+  // would need a radius under 3 cm), so each triangle takes the surface's own heights at its
+  // corners, linear between them, as the plain path does: a finite answer at bounded cost, the
+  // same as the plain path's where the plain path asks the surface itself (no smoothness bound).
+  const GerstnerWaves chop({GerstnerWave{0.02, 0.3, Eigen::Vector2d(1.0, 0.2), 0.0, 0.5}});
+  const hydrotex::test::SurfaceWithoutSmoothness plainChop(chop);
+  const Mesh box = prim::box(Eigen::Vector3d(10.0, 2.0, 10.0));
+  const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(box));
+  REQUIRE(prepared.ok());
+  std::mt19937 rng(24);
+  for (int i = 0; i < 4; ++i) {
+    const HydrostaticsQuery query = sweepQuery(rng, i, 0.5);
+    const Expected<HydrostaticsResult> fast = polyhedralHydrostatics(*prepared, chop, query);
+    REQUIRE(fast.ok());
+    const HydrostaticsResult plain = exactAnswer(box, plainChop, query);
+    CHECK(std::isfinite(fast->submergedVolume));
+    CHECK(fast->submergedVolume == Approx(plain.submergedVolume).epsilon(1e-9));
+    CHECK((fast->buoyancyForce - plain.buoyancyForce).norm() <= 1e-9 * plain.buoyancyForce.norm() + 1e-6);
+  }
+}
+
 TEST_CASE("Exact path under a height grid: against the texture path's per-texel answer",
           "[hydrostatics][polyhedral][waves][grid]") {
   // A grid of 0.25 m cells holding two crossing sines (0.15 m at 6 m, 0.05 m at 3 m), interpolated

@@ -105,8 +105,9 @@ double longestHorizontalEdgeSquared(const Corners& c) {
   return longest;
 }
 
-// Most pieces per side of a triangle split for its models, and of a piece split for clipping.
-constexpr int kMaxModelSplit = 32;
+// Most pieces per side of a triangle split for its models, and of a piece split for clipping
+// (the 1 m box under peers_waves' waves takes 5 and 5).
+constexpr int kMaxModelSplit = 16;
 constexpr int kMaxClipSplit = 16;
 
 }  // namespace
@@ -208,6 +209,12 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     radius = std::sqrt(radius);
     int n = 1;
     while (n < kMaxModelSplit && !(models.boundOver(radius / n) <= models.tolerance())) ++n;
+    if (!(models.boundOver(radius / n) <= models.tolerance())) {
+      // Waves too short for models over kMaxModelSplit^2 pieces: the plain path's way, the
+      // surface's own heights at the corners, linear between them (bounded work, not 256 pieces).
+      clip(c, nullptr, 0.0, 0.0);
+      return;
+    }
     forEachPiece(c, n, [&](const Corners& p) {
       const double px = (p.posed[0].x() + p.posed[1].x() + p.posed[2].x()) / 3.0;
       const double pz = (p.posed[0].z() + p.posed[1].z() + p.posed[2].z()) / 3.0;
