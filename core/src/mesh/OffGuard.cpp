@@ -28,16 +28,19 @@ std::string_view nextToken(std::string_view text, std::size_t& at) {
   return text.substr(start, at - start);
 }
 
-bool endsWithOff(std::string_view token) { return token.size() >= 3 && lowered(token.substr(token.size() - 3)) == "off"; }
-
 }  // namespace
 
 std::optional<std::string> offTrap(std::string_view head, std::size_t fileSize, bool offHint) {
   std::size_t at = 0;
   std::string_view token = nextToken(head, at);
-  // The keyword (OFF, COFF, NOFF, STOFF, 4OFF, ...) may be left out when the name says OFF.
-  if (endsWithOff(token)) {
-    token = nextToken(head, at);
+  // The keyword (OFF, COFF, NOFF, STOFF, 4OFF, ...) may be left out when the name says OFF. The
+  // reader also takes what follows the keyword in its token as the first count ("OFF02" is 2
+  // vertices to it, and a face count of 1e17 on the next line went through: fuzz_mesh in CI's
+  // run), and so does this check.
+  const std::size_t keyword = lowered(token).find("off");
+  if (keyword != std::string_view::npos) {
+    token = token.substr(keyword + 3);
+    if (token.empty()) token = nextToken(head, at);
   } else if (!offHint) {
     return std::nullopt;
   }
