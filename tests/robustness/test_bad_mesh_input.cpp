@@ -162,10 +162,13 @@ std::vector<BadMesh> badMeshes() {
        "OFF header declares 1000000000$0 faces", false},
       {"robust_off_huge_vertices.off", "OFF\n4000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
        "OFF header declares 4000000000 vertices", false},
-      // The reader takes the digits glued to the keyword as the vertex count ("OFF02": 2), then
-      // the next token's leading digits as the face count (1e17; fuzz_mesh in CI's run).
+      // The reader goes on right after the keyword: digits glued to it are the vertex count
+      // ("OFF02": 2, then a face count of 1e17), and '#' glued to it starts a comment (fuzz_mesh
+      // in CI's runs).
       {"robust_off_glued_count.off", "OFF02 \n100000000000000000(1 2 3\n",
        "OFF header declares 100000000000000000(1 faces", false},
+      {"robust_off_glued_comment.off", "OFF#\n2 100000000000000000000\n3 03\n3!0sho4\n3(1 2 3\n",
+       "OFF header declares 100000000000000000000 faces", false},
       // An element without properties costs assimp an instance per entry, and the guard's binary
       // walk one turn: 2^64 - 1 of them are refused, not walked.
       {"robust_ply_empty_element.ply",

@@ -34,13 +34,13 @@ std::optional<std::string> offTrap(std::string_view head, std::size_t fileSize, 
   std::size_t at = 0;
   std::string_view token = nextToken(head, at);
   // The keyword (OFF, COFF, NOFF, STOFF, 4OFF, ...) may be left out when the name says OFF. The
-  // reader also takes what follows the keyword in its token as the first count ("OFF02" is 2
-  // vertices to it, and a face count of 1e17 on the next line went through: fuzz_mesh in CI's
-  // run), and so does this check.
+  // reader goes on right after the keyword, inside its token too: "OFF02" is 2 vertices to it,
+  // and "OFF#" starts a comment (both let a face count of 1e17 or more through to an allocation
+  // of gigabytes: fuzz_mesh in CI's runs), and so does this check.
   const std::size_t keyword = lowered(token).find("off");
   if (keyword != std::string_view::npos) {
-    token = token.substr(keyword + 3);
-    if (token.empty()) token = nextToken(head, at);
+    at = std::size_t(token.data() - head.data()) + keyword + 3;
+    token = nextToken(head, at);
   } else if (!offHint) {
     return std::nullopt;
   }
