@@ -224,18 +224,14 @@ class LocalSurfaceModels {
   /// The model over a footprint; false when its bound exceeds the tolerance or a sample is missing.
   bool over(const ModelFootprint& f, SurfaceModel& model) {
     model.bound = boundOver(f.radius);
-    return model.bound <= tolerance_ && anyOver(f, model);
+    return model.bound <= tolerance_ && interpolateAt(f, model);
   }
 
   /// The model over a footprint whatever its bound (to classify a part wholly over or under it,
   /// not to integrate under it); false when a sample is missing or the bound is not finite.
   bool anyOver(const ModelFootprint& f, SurfaceModel& model) {
     model.bound = boundOver(f.radius);
-    if (!std::isfinite(model.bound) || !grid_.interpolate(f.x, f.z, model.jet)) return false;
-    model.centerX = f.x;
-    model.centerZ = f.z;
-    model.h = model.jet.height - originHeight_;
-    return true;
+    return std::isfinite(model.bound) && interpolateAt(f, model);
   }
 
   /// Adds wholly submerged moments `m` (body frame) under `model`, expanded about the body-frame
@@ -291,6 +287,16 @@ class LocalSurfaceModels {
   }
 
  private:
+  // The model's jet at the footprint's centre (its bound already set); false when a sample is
+  // missing.
+  bool interpolateAt(const ModelFootprint& f, SurfaceModel& model) {
+    if (!grid_.interpolate(f.x, f.z, model.jet)) return false;
+    model.centerX = f.x;
+    model.centerZ = f.z;
+    model.h = model.jet.height - originHeight_;
+    return true;
+  }
+
   // The model's slope and half curvature in the body frame: q = h + d . v + v^T E v (WavePart).
   void modelTerms(const SurfaceModel& model, double (&d)[3], double (&e)[3][3]) const {
     const SurfaceJet& jet = model.jet;

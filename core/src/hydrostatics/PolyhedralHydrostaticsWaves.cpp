@@ -361,18 +361,25 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     // A leaf under a covering model: its triangles one by one; when every one of them is wholly
     // under the model, the node's summed moments instead of theirs.
     if (covering) {
+      // The wholly wet triangles are listed first (a prepared leaf holds at most 8; any beyond
+      // the list are added at once), so that a leaf wholly under pays no per-triangle moments.
       Moments submerged;
-      std::uint32_t under = 0;
+      std::uint32_t listed[8], listedCount = 0, under = 0;
       for (std::uint32_t k = node.begin; k < node.end; ++k) {
         Corners c;
-        if (!poseTriangle(k, c)) continue;
-        if (addUnder(c, covering->model, covering->curvature)) {
+        if (!poseTriangle(k, c) || !addUnder(c, covering->model, covering->curvature)) continue;
+        if (listedCount < std::size(listed))
+          listed[listedCount++] = k;
+        else
           submerged.add(momentsOf(prepared.constants[k]));
-          ++under;
-        }
+        ++under;
       }
       if (under > 0) {
-        if (under == node.end - node.begin) submerged = momentsOf(node);
+        if (under == node.end - node.begin) {
+          submerged = momentsOf(node);
+        } else {
+          for (std::uint32_t l = 0; l < listedCount; ++l) submerged.add(momentsOf(prepared.constants[listed[l]]));
+        }
         models.addSubmerged(submerged, center, covering->model.recentered(f.x, f.z));
       }
       i = node.next;
