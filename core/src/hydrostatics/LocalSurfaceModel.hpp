@@ -155,8 +155,8 @@ struct WavePart {
   /// Sum p A = c A^T, Sum p p^T A = S A^T with S its second moments per area), so every sum is A_k
   /// times a scalar: with ES = Sum e_ij S_ij and cEc, W0 += (h + ES - cEc) A,
   /// W1(j, k) += (l c_j + c_j (ES - cEc) + (S d)_j) A_k (l = h - d . c), and
-  /// sum q^2 (r1 . A) += (r1 . A) (l^2 + 2 h (ES - cEc) + 2 l d . c + d^T S d). About 60 operations
-  /// where add() takes some 250.
+  /// sum q^2 (r1 . A) += (r1 . A) (l^2 + 2 h (ES - cEc) + 2 l d . c + d^T S d). About 80
+  /// multiplications, counted in the source, where add() takes about 160.
   void addTriangle(const double (&a)[3], const double (&c)[3], const double (&secondMoments)[6], double h,
                    const double (&d)[3], const double (&e)[3][3], const Eigen::Vector3d& yRow) {
     constexpr int kPair[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};

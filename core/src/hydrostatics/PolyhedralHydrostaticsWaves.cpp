@@ -106,7 +106,8 @@ double longestHorizontalEdgeSquared(const Corners& c) {
 }
 
 // Most pieces per side of a triangle split for its models, and of a piece split for clipping
-// (the 1 m box under peers_waves' waves takes 5 and 5).
+// (a counting probe: the 1 m box under peers_waves' waves took 239 model pieces a query over
+// its 11 triangles below the crests, about 22 each, so n = 4 or 5).
 constexpr int kMaxModelSplit = 16;
 constexpr int kMaxClipSplit = 16;
 
