@@ -69,25 +69,6 @@ inline TriangleConstants triangleConstants(const double a[3], const double b[3],
   return k;
 }
 
-/// The constants of the corner a, a + s (b - a), a + t (c - a) of triangle (a, b, c) whose
-/// constants are `whole`, times `sign` (+1 or -1): the corner lies in the triangle's plane with
-/// the same orientation, so its area vector and area are s t times the whole's (no cross product
-/// or square root; s, t in [0, 1]).
-inline TriangleConstants cornerConstants(const TriangleConstants& whole, const double a[3], const double b[3],
-                                         const double c[3], double s, double t, double sign) {
-  TriangleConstants k;
-  const double scale = sign * s * t;
-  for (int i = 0; i < 3; ++i) k.areaVector[i] = scale * whole.areaVector[i];
-  k.area = scale * whole.area;
-  double q[3], r[3];
-  for (int i = 0; i < 3; ++i) {
-    q[i] = a[i] + (b[i] - a[i]) * s;
-    r[i] = a[i] + (c[i] - a[i]) * t;
-  }
-  addTriangleShape(k, a, q, r);
-  return k;
-}
-
 /// A node of a prepared mesh's bounding-volume hierarchy (PreparedPolyhedron): a box around nearby
 /// triangles and their constants summed. The sums are linear in the up row r1, so a node wholly
 /// under a flat surface adds its 31 numbers contracted with r1 (O(1), where its triangles one by

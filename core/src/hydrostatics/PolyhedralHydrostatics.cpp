@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "hydrostatics/CutCornerLanes.hpp"
 #include "hydrostatics/HydrostaticSums.hpp"
 #include "hydrostatics/PolyhedralFlatSums.hpp"
 #include "hydrostatics/SurfaceJetGrid.hpp"
@@ -72,14 +73,9 @@ inline void addTriangle(Moments& m, const Point& a, const Point& b, const Point&
   }
 }
 
-/// The 10 upward-weighted body moments of a wetted surface (PolyhedralFlatSums.hpp): Sum |A|
-/// (m^2), Sum a_up (m^2), Sum p a_up (m^3), Sum p p^T a_up (m^4; xx, xy, xz, yy, yz, zz).
-struct UpwardMoments {
-  double sumArea = 0.0;
-  double sumAUp = 0.0;
-  double sumPAUp[3] = {0, 0, 0};
-  double sumPPAUp[6] = {0, 0, 0, 0, 0, 0};
-
+/// The 10 upward-weighted body moments of a wetted surface (CutCornerLanes.hpp), with what adds
+/// to them: wholly wet triangles and nodes here, cut triangles through a batch for the lanes.
+struct UpwardMoments : detail::UpwardSums<double> {
   /// Adds a wholly wet piece of the surface given by its constants; `up` is r1 in the body frame.
   inline void add(const double up[3], const detail::TriangleConstants& k) {
     const double aUp = up[0] * k.areaVector[0] + up[1] * k.areaVector[1] + up[2] * k.areaVector[2];
@@ -103,23 +99,45 @@ struct UpwardMoments {
   /// Adds the part of the triangle with corners p[0..2] (counter-clockwise from outside) and
   /// constants `whole` where the depth, linear over it and given at the corners, is positive: the
   /// triangle or quadrilateral under the water line. `under` corners of the three have depth > 0
-  /// (1 or 2: it is cut). Only the odd corner's triangle is formed (cornerConstants: no cross
-  /// product, no square root): it is the wetted part (one corner under), or what the dry corner
-  /// takes from the whole (two under).
+  /// (1 or 2: it is cut). Only the odd corner's triangle is formed (addCutCorner, in `batch`,
+  /// which is summed when full): it is the wetted part (one corner under), or what the dry
+  /// corner takes from the whole (two under).
   inline void addCut(const double up[3], const double* p[3], const double depth[3], int under,
-                     const detail::TriangleConstants& whole) {
-    // Rotate the corners (keeping orientation) so that corner i is the odd one out.
+                     const detail::TriangleConstants& whole, detail::CutCornerBatch& batch) {
+    // Turn the corners (keeping orientation) so that corner i is the odd one out.
     int i = 0;
     for (int k = 0; k < 3; ++k)
       if ((depth[k] > 0.0) == (under == 1)) i = k;
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    const double tj = depth[i] / (depth[i] - depth[j]), tk = depth[i] / (depth[i] - depth[k]);
-    if (under == 1) {
-      add(up, detail::cornerConstants(whole, p[i], p[j], p[k], tj, tk, 1.0));
-    } else {
-      add(up, whole);
-      add(up, detail::cornerConstants(whole, p[i], p[j], p[k], tj, tk, -1.0));
+    const int corners[3] = {i, (i + 1) % 3, (i + 2) % 3};
+    const double sign = under == 1 ? 1.0 : -1.0;
+    if (under != 1) add(up, whole);
+    const unsigned e = batch.count++;
+    for (int c = 0; c < 3; ++c) {
+      for (int axis = 0; axis < 3; ++axis) batch.corner[3 * c + axis][e] = p[corners[c]][axis];
+      batch.depth[c][e] = depth[corners[c]];
     }
+    batch.area[e] = sign * whole.area;
+    batch.aUp[e] = sign * (up[0] * whole.areaVector[0] + up[1] * whole.areaVector[1] + up[2] * whole.areaVector[2]);
+    if (batch.count == detail::CutCornerBatch::kCapacity) addCuts(batch);
+  }
+
+  /// Adds the batch's cut corners and empties it: four at a time in AVX2, else two in SSE2, else
+  /// one by one.
+  inline void addCuts(detail::CutCornerBatch& batch) {
+    batch.pad();
+#ifdef HYDROTEX_DOUBLE_LANES
+    if (!detail::sumCutCornersAvx2(batch, *this)) detail::sumCutCornerLanes<detail::DoubleLanes>(batch, *this);
+#else
+    for (unsigned e = 0; e < batch.count; ++e) {
+      double p[3][3];
+      for (int c = 0; c < 3; ++c)
+        for (int axis = 0; axis < 3; ++axis) p[c][axis] = batch.corner[3 * c + axis][e];
+      const double da = batch.depth[0][e], db = batch.depth[1][e], dc = batch.depth[2][e];
+      detail::addCutCorner<double>(*this, p[0], p[1], p[2], da / (da - db), da / (da - dc), batch.area[e],
+                                   batch.aUp[e]);
+    }
+#endif
+    batch.count = 0;
   }
 };
 
@@ -176,6 +194,7 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
     depths[v] = bodyLevel - (up[0] * p.x() + up[1] * p.y() + up[2] * p.z());
   }
   UpwardMoments m;
+  detail::CutCornerBatch cuts;  // the cut triangles, summed 32 at a time
   // Triangles [begin, end) of `triangles` one by one (`constants` aligned with them, or null).
   const auto addTriangles = [&](const Eigen::Vector3i* triangles, const TriangleConstants* constants, std::size_t begin,
                                 std::size_t end) {
@@ -187,7 +206,7 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
       const double* p[3] = {positions[std::size_t(tri[0])].data(), positions[std::size_t(tri[1])].data(),
                             positions[std::size_t(tri[2])].data()};
       if (under != 3)
-        m.addCut(up, p, depth, under, constants ? constants[t] : triangleConstants(p[0], p[1], p[2]));
+        m.addCut(up, p, depth, under, constants ? constants[t] : triangleConstants(p[0], p[1], p[2]), cuts);
       else if (constants)
         m.add(up, constants[t]);  // by reference: no copy of the 104 bytes
       else
@@ -225,6 +244,7 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
   } else {
     addTriangles(mesh.triangles.data(), nullptr, 0, mesh.triangles.size());
   }
+  m.addCuts(cuts);
 
   // To the world sums about o = (t_x, h, t_z), with x' = R p + b, b = t - o: Sum x' a_up =
   // R P + b W and Sum x' x'^T a_up = R S R^T + b (R P)^T + (R P) b^T + b b^T W (W = Sum a_up,

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: Zlib
+/// @file CutCornerLanesAvx2.cpp
+/// CutCornerLanes.hpp's cut triangles four at a time in AVX2 registers, without fused
+/// multiply-adds (each lane rounds as the scalar law). core/CMakeLists.txt compiles this file
+/// alone with -mavx2 where the compiler takes it; the processor is asked once, at the first call.
+/// Everything it instantiates depends on QuadLanes, which has internal linkage (QuadLanes.hpp).
+
+#include "Avx2Lanes.hpp"
+#include "hydrostatics/CutCornerLanes.hpp"
+
+#if defined(__AVX2__)
+#include "QuadLanes.hpp"
+
+namespace hydrotex::detail {
+
+bool sumCutCornersAvx2(const CutCornerBatch& in, UpwardSums<double>& out) {
+  // Asked once: a query runs this per 32 cut triangles, and the environment is a scan of strings.
+  static const bool allowed = avx2LanesAllowed();
+  if (!allowed) return false;
+  sumCutCornerLanes<QuadLanes>(in, out);
+  return true;
+}
+
+}  // namespace hydrotex::detail
+
+#else
+
+namespace hydrotex::detail {
+bool sumCutCornersAvx2(const CutCornerBatch&, UpwardSums<double>&) { return false; }
+}  // namespace hydrotex::detail
+
+#endif
