@@ -86,7 +86,7 @@ struct UpwardMoments : detail::UpwardSums<double> {
   }
 
   /// Adds a wholly wet node of triangles: its summed constants contracted with `up`.
-  inline void add(const double up[3], const detail::TriangleNode& c) {
+  inline void add(const double up[3], const detail::NodeSums& c) {
     sumArea += c.area;
     sumAUp += up[0] * c.areaVector[0] + up[1] * c.areaVector[1] + up[2] * c.areaVector[2];
     for (int i = 0; i < 3; ++i)
@@ -233,7 +233,7 @@ Expected<HydrostaticsResult> detail::flatPolyhedralHydrostatics(const Mesh& mesh
       if (depth < -spread) {
         i = node.next;
       } else if (depth > spread) {
-        m.add(up, node);
+        m.add(up, prepared->sums[i]);
         i = node.next;
       } else {
         if (node.next == i + 1)  // a leaf the water line may cross

@@ -48,7 +48,7 @@ Moments momentsOf(const TriangleConstants& k) {
 }
 
 /// The summed moments of a node.
-Moments momentsOf(const TriangleNode& node) {
+Moments momentsOf(const NodeSums& node) {
   Moments m;
   m.sumArea = node.area;
   for (int a = 0; a < 3; ++a) {
@@ -350,7 +350,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
         continue;
       }
       if (high <= modelLow) {
-        models.addSubmerged(momentsOf(node), center, model.recentered(f.x, f.z));
+        models.addSubmerged(momentsOf(prepared.sums[i]), center, model.recentered(f.x, f.z));
         i = node.next;
         continue;
       }
@@ -377,7 +377,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       }
       if (under > 0) {
         if (under == node.end - node.begin) {
-          submerged = momentsOf(node);
+          submerged = momentsOf(prepared.sums[i]);
         } else {
           for (std::uint32_t l = 0; l < listedCount; ++l) submerged.add(momentsOf(prepared.constants[listed[l]]));
         }

@@ -26,7 +26,7 @@ namespace {
 constexpr std::size_t kLeafTriangles = 8;
 
 /// Adds what the triangle with constants `k` brings to a node's sums.
-void addToNode(detail::TriangleNode& node, const detail::TriangleConstants& k) {
+void addToNode(detail::NodeSums& node, const detail::TriangleConstants& k) {
   node.area += k.area;
   for (int j = 0; j < 3; ++j) {
     node.areaVector[j] += k.areaVector[j];
@@ -36,7 +36,7 @@ void addToNode(detail::TriangleNode& node, const detail::TriangleConstants& k) {
 }
 
 /// Adds a child's sums to its parent's.
-void addToNode(detail::TriangleNode& node, const detail::TriangleNode& child) {
+void addToNode(detail::NodeSums& node, const detail::NodeSums& child) {
   node.area += child.area;
   for (int j = 0; j < 3; ++j) {
     node.areaVector[j] += child.areaVector[j];
@@ -56,9 +56,11 @@ struct HierarchyInput {
 /// their centroids along the longest side of the centroids' bounds (nth_element reorders `order`
 /// in place, so that each node's triangles end up contiguous) and a node over both halves.
 void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                  std::vector<detail::TriangleNode>& nodes, Eigen::Vector3d& lower, Eigen::Vector3d& upper) {
+                  std::vector<detail::TriangleNode>& nodes, std::vector<detail::NodeSums>& sums, Eigen::Vector3d& lower,
+                  Eigen::Vector3d& upper) {
   const std::size_t index = nodes.size();
-  nodes.emplace_back();  // value-initialized: the sums start at zero
+  nodes.emplace_back();
+  sums.emplace_back();  // value-initialized: the sums start at zero
   lower = Eigen::Vector3d::Constant(INFINITY);
   upper = -lower;
   if (end - begin <= kLeafTriangles) {
@@ -68,7 +70,7 @@ void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order
         lower = lower.cwiseMin(input.mesh.positions[std::size_t(tri[c])]);
         upper = upper.cwiseMax(input.mesh.positions[std::size_t(tri[c])]);
       }
-      addToNode(nodes[index], input.constants[order[t]]);
+      addToNode(sums[index], input.constants[order[t]]);
     }
   } else {
     Eigen::Vector3d centroidLower = Eigen::Vector3d::Constant(INFINITY), centroidUpper = -centroidLower;
@@ -88,15 +90,15 @@ void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order
                      });
     Eigen::Vector3d childLower, childUpper;
     const std::size_t first = nodes.size();
-    buildSubtree(input, order, begin, middle, nodes, childLower, childUpper);
+    buildSubtree(input, order, begin, middle, nodes, sums, childLower, childUpper);
     lower = childLower;
     upper = childUpper;
     const std::size_t second = nodes.size();
-    buildSubtree(input, order, middle, end, nodes, childLower, childUpper);
+    buildSubtree(input, order, middle, end, nodes, sums, childLower, childUpper);
     lower = lower.cwiseMin(childLower);
     upper = upper.cwiseMax(childUpper);
-    addToNode(nodes[index], nodes[first]);
-    addToNode(nodes[index], nodes[second]);
+    addToNode(sums[index], sums[first]);
+    addToNode(sums[index], sums[second]);
   }
   detail::TriangleNode& node = nodes[index];
   for (int i = 0; i < 3; ++i) {
@@ -139,8 +141,9 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
   std::iota(order.begin(), order.end(), 0u);
   auto layout = std::make_shared<detail::PreparedTriangles>();
   Eigen::Vector3d lower, upper;
-  buildSubtree(HierarchyInput{*mesh, constants}, order, 0, triangleCount, layout->nodes, lower, upper);
+  buildSubtree(HierarchyInput{*mesh, constants}, order, 0, triangleCount, layout->nodes, layout->sums, lower, upper);
   layout->nodes.shrink_to_fit();
+  layout->sums.shrink_to_fit();
   layout->triangles.reserve(triangleCount);
   layout->constants.reserve(triangleCount);
   for (std::uint32_t t : order) {
@@ -159,7 +162,8 @@ std::size_t PreparedPolyhedron::memoryBytes() const {
   if (!triangles_) return 0;
   return triangles_->triangles.capacity() * sizeof(Eigen::Vector3i) +
          triangles_->constants.capacity() * sizeof(detail::TriangleConstants) +
-         triangles_->nodes.capacity() * sizeof(detail::TriangleNode);
+         triangles_->nodes.capacity() * sizeof(detail::TriangleNode) +
+         triangles_->sums.capacity() * sizeof(detail::NodeSums);
 }
 
 Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
