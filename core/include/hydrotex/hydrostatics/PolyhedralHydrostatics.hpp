@@ -14,9 +14,11 @@
 
 namespace hydrotex {
 
-/// Height error bound (m) of the surface heights the exact path interpolates under waves (see
-/// polyhedralHydrostaticsUnchecked): the texture path's default for its own interpolated heights
-/// (a thirtieth of its 1e-4 m model tolerance), so both paths see the surface alike.
+/// Height error bound (m) of the surface heights interpolated under waves by the plain exact path
+/// (polyhedralHydrostaticsUnchecked) and the texel pressures (texelPressures), 3.3e-6 m: a thirtieth of 1e-4 m, the interpolation
+/// bound of a model tolerance of 1e-4 m. (The texture path's default model tolerance is 3e-3 m,
+/// TextureHydrostaticsSettings::surfaceModelTolerance, so its heights carry a bound of 1e-4 m:
+/// this one is thirty times finer.)
 inline constexpr double kExactWaveHeightError = 1e-4 / 30.0;
 
 /// Under waves, the largest error bound (m) of a local surface model that a prepared mesh's
