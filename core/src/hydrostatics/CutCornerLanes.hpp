@@ -103,6 +103,17 @@ inline void sumCutCornerLanes(const CutCornerBatch& in, UpwardSums<double>& out)
   for (int pair = 0; pair < 6; ++pair) out.sumPPAUp[pair] += lanes.sumPPAUp[pair].sum();
 }
 
+/// Adds the batch's corners to `out` one by one (the scalar law; where there are no lanes).
+inline void sumCutCornersOneByOne(const CutCornerBatch& in, UpwardSums<double>& out) {
+  for (unsigned e = 0; e < in.count; ++e) {
+    double p[3][3];
+    for (int c = 0; c < 3; ++c)
+      for (int axis = 0; axis < 3; ++axis) p[c][axis] = in.corner[3 * c + axis][e];
+    const double da = in.depth[0][e], db = in.depth[1][e], dc = in.depth[2][e];
+    addCutCorner<double>(out, p[0], p[1], p[2], da / (da - db), da / (da - dc), in.area[e], in.aUp[e]);
+  }
+}
+
 /// sumCutCornerLanes in AVX2 lanes (CutCornerLanesAvx2.cpp); false, having added nothing, where
 /// the processor or the build has no AVX2 or HYDROTEX_DISABLE_AVX2 is set.
 bool sumCutCornersAvx2(const CutCornerBatch& in, UpwardSums<double>& out);

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -68,6 +69,11 @@ inline TriangleConstants triangleConstants(const double a[3], const double b[3],
   addTriangleShape(k, a, b, c);
   return k;
 }
+
+/// Most triangles in a leaf of a prepared mesh's hierarchy: the cost of a leaf the water line
+/// crosses (its triangles one by one) against the nodes opened above it (bench_peers, Wigley hull
+/// of 4,222 triangles: commit e045bbd). The walks under waves list a leaf's triangles on the stack.
+inline constexpr std::size_t kMaxLeafTriangles = 8;
 
 /// A node of a prepared mesh's bounding-volume hierarchy (PreparedPolyhedron): a box around nearby
 /// triangles, with their constants summed (NodeSums, alongside). The sums are linear in the up

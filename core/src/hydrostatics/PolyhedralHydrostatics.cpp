@@ -128,14 +128,7 @@ struct UpwardMoments : detail::UpwardSums<double> {
 #ifdef HYDROTEX_DOUBLE_LANES
     if (!detail::sumCutCornersAvx2(batch, *this)) detail::sumCutCornerLanes<detail::DoubleLanes>(batch, *this);
 #else
-    for (unsigned e = 0; e < batch.count; ++e) {
-      double p[3][3];
-      for (int c = 0; c < 3; ++c)
-        for (int axis = 0; axis < 3; ++axis) p[c][axis] = batch.corner[3 * c + axis][e];
-      const double da = batch.depth[0][e], db = batch.depth[1][e], dc = batch.depth[2][e];
-      detail::addCutCorner<double>(*this, p[0], p[1], p[2], da / (da - db), da / (da - dc), batch.area[e],
-                                   batch.aUp[e]);
-    }
+    detail::sumCutCornersOneByOne(batch, *this);
 #endif
     batch.count = 0;
   }

@@ -246,8 +246,8 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   };
   // Triangles of a leaf that take one model: their corners, indices and horizontal bounds.
   struct Group {
-    Corners corners[8];
-    std::uint32_t index[8];
+    Corners corners[kMaxLeafTriangles];  // a group lies within one leaf
+    std::uint32_t index[kMaxLeafTriangles];
     int count = 0;
     double lowX = INFINITY, highX = -INFINITY, lowZ = INFINITY, highZ = -INFINITY;
     static double radius(double lx, double hx, double lz, double hz) {
@@ -257,7 +257,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       return m.boundOver(radius(lx, hx, lz, hz)) <= m.tolerance();
     }
     bool fits(double lx, double hx, double lz, double hz, const LocalSurfaceModels& m) const {
-      return count < 8 && fitsAlone(std::min(lowX, lx), std::max(highX, hx), std::min(lowZ, lz), std::max(highZ, hz), m);
+      return count < int(kMaxLeafTriangles) && fitsAlone(std::min(lowX, lx), std::max(highX, hx), std::min(lowZ, lz), std::max(highZ, hz), m);
     }
     void clear() {
       count = 0;
@@ -362,24 +362,19 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     // A leaf under a covering model: its triangles one by one; when every one of them is wholly
     // under the model, the node's summed moments instead of theirs.
     if (covering) {
-      // The wholly wet triangles are listed first (a prepared leaf holds at most 8; any beyond
-      // the list are added at once), so that a leaf wholly under pays no per-triangle moments.
-      Moments submerged;
-      std::uint32_t listed[8], listedCount = 0, under = 0;
+      // The wholly wet triangles are listed first, so that a leaf wholly under pays no
+      // per-triangle moments.
+      std::uint32_t listed[kMaxLeafTriangles], under = 0;
       for (std::uint32_t k = node.begin; k < node.end; ++k) {
         Corners c;
-        if (!poseTriangle(k, c) || !addUnder(c, covering->model, covering->curvature)) continue;
-        if (listedCount < std::size(listed))
-          listed[listedCount++] = k;
-        else
-          submerged.add(momentsOf(prepared.constants[k]));
-        ++under;
+        if (poseTriangle(k, c) && addUnder(c, covering->model, covering->curvature)) listed[under++] = k;
       }
       if (under > 0) {
+        Moments submerged;
         if (under == node.end - node.begin) {
           submerged = momentsOf(prepared.sums[i]);
         } else {
-          for (std::uint32_t l = 0; l < listedCount; ++l) submerged.add(momentsOf(prepared.constants[listed[l]]));
+          for (std::uint32_t l = 0; l < under; ++l) submerged.add(momentsOf(prepared.constants[listed[l]]));
         }
         models.addSubmerged(submerged, center, covering->model.recentered(f.x, f.z));
       }

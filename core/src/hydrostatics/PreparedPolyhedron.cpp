@@ -20,11 +20,6 @@ namespace hydrotex {
 
 namespace {
 
-/// Triangles per leaf at most: the cost of a leaf the water line crosses (its triangles one by
-/// one) against the nodes opened above it (bench_peers, Wigley hull of 4,222 triangles: see the
-/// commit).
-constexpr std::size_t kLeafTriangles = 8;
-
 /// Adds what the triangle with constants `k` brings to a node's sums.
 void addToNode(detail::NodeSums& node, const detail::TriangleConstants& k) {
   node.area += k.area;
@@ -52,7 +47,7 @@ struct HierarchyInput {
 };
 
 /// Appends the subtree over the triangles order[begin, end) to `nodes` (depth first) and returns
-/// its bounds: a leaf for at most kLeafTriangles, otherwise the triangles halved at the median of
+/// its bounds: a leaf for at most detail::kMaxLeafTriangles, otherwise the triangles halved at the median of
 /// their centroids along the longest side of the centroids' bounds (nth_element reorders `order`
 /// in place, so that each node's triangles end up contiguous) and a node over both halves.
 void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
@@ -63,7 +58,7 @@ void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order
   sums.emplace_back();  // value-initialized: the sums start at zero
   lower = Eigen::Vector3d::Constant(INFINITY);
   upper = -lower;
-  if (end - begin <= kLeafTriangles) {
+  if (end - begin <= detail::kMaxLeafTriangles) {
     for (std::size_t t = begin; t < end; ++t) {
       const Eigen::Vector3i& tri = input.mesh.triangles[order[t]];
       for (int c = 0; c < 3; ++c) {
