@@ -9,7 +9,7 @@
 // sums. So the mass properties of a body deformed on the GPU come from GPU-side texels.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) writeonly buffer Texels { MassTexel texels[]; };  // the body's mass segment
+layout(std430, binding = 0) writeonly buffer Texels { MassTexel texels[]; };  // the buffer of the body's mass run
 layout(std430, binding = 1) readonly buffer Chunks { Chunk chunks[]; };       // mass chunks
 layout(std430, binding = 5) writeonly buffer Blocks { MassBlock blocks[]; };  // per body block
 // Bindings 2..4: deform_texel.glsl.

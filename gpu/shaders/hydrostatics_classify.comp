@@ -3,7 +3,7 @@
 // TextureHydrostatics' tile hierarchy, core/src/hydrostatics/TextureHydrostatics.cpp): a chunk whose bounds lie
 // wholly above the surface writes a zero partial; one wholly under it writes the partial from its
 // pre-summed moments in O(1) (the expansion of HydrostaticSums.cpp, addSubmergedMoments, about the
-// chunk's centre); only a chunk that crosses the surface is appended to its segment's list, which
+// chunk's centre); only a chunk that crosses the surface is appended to its run's list, which
 // the texel pass (hydrostatics_flat.comp) then runs over through an indirect dispatch.
 // With surfaceMode (waves, grids, media: hydrostatics_surface.comp) a chunk is dry only above its
 // body's dryLevels entry (the surface's highest point in the body's frame) and every other chunk
@@ -21,8 +21,8 @@ layout(std430, binding = 0) readonly buffer DryLevels { float dryLevels[]; };   
 
 uniform uint chunkBase;     // global index of this dispatch's first chunk
 uniform uint chunkCount;    // chunks in this dispatch
-uniform uint segmentIndex;  // the storage segment these chunks lie in
-uniform uint listBase;      // where the segment's crossing list starts in Crossing
+uniform uint runIndex;      // the storage run these chunks form (its counters and crossing list)
+uniform uint listBase;      // where the run's crossing list starts in Crossing
 uniform bool surfaceMode;   // not a flat plane: see above
 uniform uint headBase;      // where the pressure-head partials start in Partials
 
@@ -45,11 +45,11 @@ void main() {
     return;
   }
   if (surfaceMode || X.y + reachY > 0.0) {  // crosses the surface: texel by texel
-    uint slot = atomicAdd(counters[segmentIndex].crossingGroups, 1u);
+    uint slot = atomicAdd(counters[runIndex].crossingGroups, 1u);
     crossing[listBase + slot] = chunkIndex;
     return;
   }
-  atomicAdd(counters[segmentIndex].submergedChunks, 1u);
+  atomicAdd(counters[runIndex].submergedChunks, 1u);
 
   // Wholly submerged: every texel has frac = 1, D = -y', Q = y'^2. With x' = X + R q and A' = R A,
   // every sum needed is S0 = sum A'_y, S_i = sum x'_i A'_y = X_i S0 + m_i and

@@ -16,7 +16,7 @@ layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
 layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 
-uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
+uniform uint listBase;  // this run's crossing list in Crossing; the dispatch has one group per entry
 
 const uint kGroup = 64u;
 const uint kTexelsPerInvocation = 4u;

@@ -27,7 +27,7 @@ layout(std430, binding = 3) writeonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 4) readonly buffer Corrections { TexelCorrection corrections[]; };
 layout(std430, binding = 6) readonly buffer Crossing { uint crossing[]; };
 
-uniform uint listBase;  // this segment's crossing list in Crossing; the dispatch has one group per entry
+uniform uint listBase;  // this run's crossing list in Crossing; the dispatch has one group per entry
 uniform uint headBase;  // where the pressure-head partials start in Partials
 
 #if defined(SURFACE_GERSTNER)

@@ -83,7 +83,7 @@ struct ChunkMoments {
   float value[32];
 };
 
-// Per storage segment, per step: the indirect dispatch of the texel pass over the chunks that
+// Per storage run, per step: the indirect dispatch of the texel pass over the chunks that
 // cross the surface (x = their count, y = z = 1) and the count of wholly submerged chunks.
 struct SegmentCounters {
   uint crossingGroups;

@@ -2,7 +2,7 @@
 /// @file GlBackend.cpp
 /// The GL compute backend. Per body, the CPU's exact bake is uploaded once as packed texels
 /// (HydroTexel for hydrostatics, MassTexel plus per-block geometry sums for mass); a call uploads
-/// the poses (or densities), runs one chunk pass per storage segment for all bodies at once, one
+/// the poses (or densities), runs one chunk pass per storage run for all bodies at once, one
 /// final double pass per body, and reads the per-body sums back once. The sums are those of
 /// core's texture path (HydrostaticSums.hpp, TextureMassProperties.cpp) and are finished by the
 /// same code (finishFlatHydrostatics; finishPressureHydrostatics under waves, grids and media) so
@@ -48,42 +48,56 @@ constexpr GLuint kClassifyGroup = 64;              // invocations per group of h
 constexpr float kLifted = 1.0e30f;
 constexpr double kTwoPi = 6.28318530717958647692;
 
-// Append-only storage for one kind of texel, split into buffers ("segments").
+// Append-only storage for one kind of texel, split into buffers, and the runs of global chunks
+// that a pass dispatches: a run's chunks are consecutive and read one buffer.
 // Quirk (llvmpipe): GL_MAX_SHADER_STORAGE_BLOCK_SIZE is 128 MiB (the spec's minimum), less than
-// 1,000 bodies at 256^2 need; NVIDIA allows 2 GiB. Chunks never straddle segments and each
-// segment gets its own dispatch.
+// 1,000 bodies at 256^2 need; NVIDIA allows 2 GiB. Chunks never straddle buffers and each run
+// gets its own dispatch. A body's own chunks go to the last buffer with room; an instance's
+// (addInstance) read its model's texels where they lie, in runs of their own.
 struct SegmentedStorage {
-  struct Segment {
+  struct Buffer {
     GlBuffer texels;
     GlBuffer densities;  // mass storage only: one float per texel
     std::size_t used = 0;
-    std::uint32_t chunkBegin = 0, chunkEnd = 0;  // global chunk range placed here
+  };
+  struct Run {
+    std::uint32_t buffer = 0;
+    std::uint32_t chunkBegin = 0, chunkEnd = 0;  // global chunk range
   };
   std::size_t elementBytes = 0;
-  std::size_t capacity = 0;  // elements per segment
+  std::size_t capacity = 0;  // elements per buffer
   bool withDensities = false;
-  std::vector<Segment> segments;
-  std::vector<std::uint32_t> chunkSegment;  // per global chunk
+  std::vector<Buffer> buffers;
+  std::vector<Run> runs;
+  std::vector<std::uint32_t> chunkRun;  // per global chunk
 
-  // Places chunk `chunkIndex` of `count` elements; returns its first element in its segment.
-  // A segment holds at most kMaxGroupsX chunks, so that its indirect dispatch (one group per
-  // crossing chunk, x only) stays within GL's guaranteed group count.
+  // Places chunk `chunkIndex` of `count` elements; returns its first element in its buffer.
   std::uint32_t place(std::uint32_t chunkIndex, std::uint32_t count) {
-    if (segments.empty() || segments.back().used + count > capacity ||
-        segments.back().chunkEnd - segments.back().chunkBegin >= kMaxGroupsX) {
-      Segment segment;
-      segment.texels = GlBuffer(capacity * elementBytes);
-      if (withDensities) segment.densities = GlBuffer(capacity * sizeof(float));
-      segment.chunkBegin = chunkIndex;
-      segment.chunkEnd = chunkIndex;
-      segments.push_back(std::move(segment));
+    if (buffers.empty() || buffers.back().used + count > capacity) {
+      Buffer buffer;
+      buffer.texels = GlBuffer(capacity * elementBytes);
+      if (withDensities) buffer.densities = GlBuffer(capacity * sizeof(float));
+      buffers.push_back(std::move(buffer));
     }
-    Segment& segment = segments.back();
-    const auto begin = static_cast<std::uint32_t>(segment.used);
-    segment.used += count;
-    segment.chunkEnd = chunkIndex + 1;
-    chunkSegment.push_back(static_cast<std::uint32_t>(segments.size() - 1));
+    const auto begin = static_cast<std::uint32_t>(buffers.back().used);
+    buffers.back().used += count;
+    extendRuns(chunkIndex, static_cast<std::uint32_t>(buffers.size() - 1));
     return begin;
+  }
+  // Chunk `chunkIndex` reads the elements of the earlier chunk `of` (same buffer, same begin).
+  void share(std::uint32_t chunkIndex, std::uint32_t of) { extendRuns(chunkIndex, runs[chunkRun[of]].buffer); }
+  // The buffer chunk `chunk` reads.
+  const Buffer& bufferOf(std::uint32_t chunk) const { return buffers[runs[chunkRun[chunk]].buffer]; }
+
+ private:
+  // A run holds at most kMaxGroupsX chunks, so that its indirect dispatch (one group per crossing
+  // chunk, x only) stays within GL's guaranteed group count.
+  void extendRuns(std::uint32_t chunkIndex, std::uint32_t buffer) {
+    if (runs.empty() || runs.back().buffer != buffer || runs.back().chunkEnd != chunkIndex ||
+        runs.back().chunkEnd - runs.back().chunkBegin >= kMaxGroupsX)
+      runs.push_back(Run{buffer, chunkIndex, chunkIndex});
+    runs.back().chunkEnd = chunkIndex + 1;
+    chunkRun.push_back(static_cast<std::uint32_t>(runs.size() - 1));
   }
 };
 
@@ -152,8 +166,8 @@ class GlBackend final : public ComputeBackend {
   ~GlBackend() override {
     // GL objects must go while the context is current; the context goes last.
     if (context_->makeCurrent()) {
-      hydroStorage_.segments.clear();
-      massStorage_.segments.clear();
+      hydroStorage_.buffers.clear();
+      massStorage_.buffers.clear();
       tables_ = Tables{};
       programs_ = Programs{};
     }
@@ -265,8 +279,60 @@ class GlBackend final : public ComputeBackend {
     return id;
   }
 
+  // The instance gets chunk records of its own (its body index, its poses and sums) that read the
+  // model's texels, corrections and bounds where they lie; the per-chunk moments and block sums
+  // (176 bytes a chunk) are copied so that the passes index everything by the instance's chunks.
+  Expected<BackendBodyId> addInstance(BackendBodyId of) override {
+    if (of >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(of)};
+    if (bodies_[of].deformation)
+      return Error{"gpu backend: body " + std::to_string(of) + " deforms on the GPU; a deforming body's texels are not shared"};
+    const Body& model = bodies_[of];
+    const auto id = static_cast<std::uint32_t>(bodies_.size());
+    Body body;
+    body.texelCount = model.texelCount;
+    body.referencePoint = model.referencePoint;
+    body.totalVolume = model.totalVolume;
+    body.shellArea = model.shellArea;
+    body.shellFirst = model.shellFirst;
+    body.shellSecond = model.shellSecond;
+    body.lids = model.lids;
+    body.sumPA = model.sumPA;
+    body.correctionBegin = model.correctionBegin;
+    body.correctionEnd = model.correctionEnd;
+    body.sumA = model.sumA;
+    body.shared = true;
+    body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
+    for (std::uint32_t c = model.hydroChunkBegin; c < model.hydroChunkEnd; ++c) {
+      layout::Chunk chunk = hydroChunks_[c];
+      chunk.body = id;
+      const std::uint32_t first = hydroChunkFirst_[c];
+      const layout::ChunkMoments moments = hydroMoments_[c];
+      hydroStorage_.share(static_cast<std::uint32_t>(hydroChunks_.size()), c);
+      hydroChunks_.push_back(chunk);
+      hydroChunkFirst_.push_back(first);
+      hydroMoments_.push_back(moments);
+    }
+    body.hydroChunkEnd = static_cast<std::uint32_t>(hydroChunks_.size());
+    body.massChunkBegin = static_cast<std::uint32_t>(massChunks_.size());
+    for (std::uint32_t c = model.massChunkBegin; c < model.massChunkEnd; ++c) {
+      layout::Chunk chunk = massChunks_[c];
+      chunk.body = id;
+      const layout::BlockGeometry block = blocks_[c];
+      massStorage_.share(static_cast<std::uint32_t>(massChunks_.size()), c);
+      massChunks_.push_back(chunk);
+      blocks_.push_back(block);
+    }
+    body.massChunkEnd = static_cast<std::uint32_t>(massChunks_.size());
+    bodies_[of].shared = true;
+    bodies_.push_back(std::move(body));
+    tablesDirty_ = true;
+    return id;
+  }
+
   Status updateSurface(BackendBodyId id, const SurfaceTextures& textures) override {
     if (id >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(id)};
+    if (bodies_[id].shared)
+      return Error{"gpu backend: body " + std::to_string(id) + " shares its texels with another (addInstance); a deforming body needs its own"};
     if (Status s = checkTextures(textures, bodies_[id].texelCount); !s) return s;
     // The same bake names the same texels of several pieces (SurfaceTextures::momentTexel).
     if (textures.momentCorrection.size() != bodies_[id].correctionEnd - bodies_[id].correctionBegin)
@@ -285,6 +351,8 @@ class GlBackend final : public ComputeBackend {
   Status enableDeformation(BackendBodyId id, const SurfaceBake& bake, const Mesh& mesh, const UvLayout& uvLayout) {
     if (id >= bodies_.size()) return Error{"gpu deformation: unknown body " + std::to_string(id)};
     Body& body = bodies_[id];
+    if (body.shared)
+      return Error{"gpu deformation: body " + std::to_string(id) + " shares its texels with another (addInstance); a deforming body needs its own"};
     if (bake.coveredCount() != body.texelCount || bake.pieceStart.size() != body.texelCount + 1)
       return Error{"gpu deformation: the bake has " + std::to_string(bake.coveredCount()) + " texels, body " +
                    std::to_string(id) + " has " + std::to_string(body.texelCount)};
@@ -396,7 +464,7 @@ class GlBackend final : public ComputeBackend {
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       const layout::Chunk& chunk = hydroChunks_[c];
       texels.resize(chunk.count);
-      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.read(
+      hydroStorage_.bufferOf(c).texels.read(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), texels.data(), texels.size() * sizeof(layout::HydroTexel));
       for (std::uint32_t k = 0; k < chunk.count; ++k) {
         const layout::HydroTexel& t = texels[k];
@@ -539,6 +607,10 @@ class GlBackend final : public ComputeBackend {
       if (bodies_[ids[i]].batch == batch_) return Error{"gpu backend: body " + std::to_string(ids[i]) + " asked twice in one batch"};
       bodies_[ids[i]].batch = batch_;
       const TextureMassModel& model = models[i];
+      // The density map lies beside the mass texels, which an instance shares with its model.
+      if (!model.texelDensity.empty() && bodies_[ids[i]].shared)
+        return Error{"gpu backend: body " + std::to_string(ids[i]) +
+                     " shares its texels with another (addInstance); a density map needs a body of its own"};
       if (!model.texelDensity.empty() && model.texelDensity.size() != bodies_[ids[i]].texelCount)
         return Error{"density map has " + std::to_string(model.texelDensity.size()) + " texels, the bake has " +
                      std::to_string(bodies_[ids[i]].texelCount)};
@@ -630,6 +702,7 @@ class GlBackend final : public ComputeBackend {
     bool gpuDeformed = false;        // its texels on the GPU come from updateVertices, not the host
     bool momentsPending = false;     // its chunk moments (for sumPA) wait on the GPU
     bool massPending = false;        // its mass block sums wait on the GPU
+    bool shared = false;             // its texels serve several bodies (addInstance): read-only
   };
   struct Tables {
     GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, results;
@@ -639,8 +712,8 @@ class GlBackend final : public ComputeBackend {
     GlBuffer partials;
     GlBuffer chunkMoments;  // per hydro chunk
     GlBuffer corrections;   // TexelCorrection, each hydro chunk's range (Chunk::correctionBegin)
-    GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per segment
-    GlBuffer counters;      // per segment: SegmentCounters
+    GlBuffer crossing;      // per hydro chunk: the crossing lists, one region per run
+    GlBuffer counters;      // per hydro run: SegmentCounters
     GlBuffer headResults;   // per body: their double sums
     GlBuffer dryLevels;     // per body: the surface's highest point in its frame (non-flat surfaces)
     GlBuffer surfaceData;   // binding 5 of hydrostatics_surface.comp (waves or grid samples), grown on demand
@@ -754,34 +827,34 @@ class GlBackend final : public ComputeBackend {
       chunk.halfZ = float(half.z());
       hydroMoments_[c] = chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
                                       Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
-      hydroStorage_.segments[hydroStorage_.chunkSegment[c]].texels.write(
+      hydroStorage_.bufferOf(c).texels.write(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
     }
     for (std::uint32_t c = body.massChunkBegin; c < body.massChunkEnd; ++c) {
       const layout::Chunk& chunk = massChunks_[c];
       const std::size_t first = std::size_t(c - body.massChunkBegin) * kMassChunkTexels;
-      massStorage_.segments[massStorage_.chunkSegment[c]].texels.write(
+      massStorage_.bufferOf(c).texels.write(
           std::size_t(chunk.begin) * sizeof(layout::MassTexel), mass.data() + first, chunk.count * sizeof(layout::MassTexel));
     }
   }
 
   // Writes a density map beside the body's mass texels, one write per run of chunks that are
-  // consecutive in one segment.
+  // consecutive in one run.
   void uploadDensities(const Body& body, const std::vector<float>& densities) {
     std::uint32_t c = body.massChunkBegin;
     while (c < body.massChunkEnd) {
       std::uint32_t end = c + 1;
-      while (end < body.massChunkEnd && massStorage_.chunkSegment[end] == massStorage_.chunkSegment[c]) ++end;
+      while (end < body.massChunkEnd && massStorage_.chunkRun[end] == massStorage_.chunkRun[c]) ++end;
       const std::size_t first = std::size_t(c - body.massChunkBegin) * kMassChunkTexels;
       const std::size_t last = std::min(body.texelCount, std::size_t(end - body.massChunkBegin) * kMassChunkTexels);
-      massStorage_.segments[massStorage_.chunkSegment[c]].densities.write(
+      massStorage_.bufferOf(c).densities.write(
           std::size_t(massChunks_[c].begin) * sizeof(float), densities.data() + first, (last - first) * sizeof(float));
       c = end;
     }
   }
 
   // Runs a deforming body's two passes on its current vertices: triangle frames, then per chunk
-  // the texels, bounds, moment corrections and moments (deform_*.comp), one dispatch per segment.
+  // the texels, bounds, moment corrections and moments (deform_*.comp), one dispatch per run.
   void runDeformation(const Body& body) {
     const Deformation& d = *body.deformation;
     glUseProgram(programs_.deformTriangles.id());
@@ -804,13 +877,13 @@ class GlBackend final : public ComputeBackend {
     glUniform1ui(program.uniform("bodyChunkBegin"), body.hydroChunkBegin);
     glUniform1ui(program.uniform("triangleCount"), d.triangleCount);
     glUniform1ui(program.uniform("pieceCount"), d.pieceCount);
-    // One dispatch per run of the body's chunks that lie in one texel segment (binding 0).
+    // One dispatch per run of the body's chunks that read one texel buffer (binding 0).
     const auto dispatchPerSegment = [](const GlProgram& shader, const auto& storage, std::uint32_t begin,
                                        std::uint32_t endChunk) {
       for (std::uint32_t c = begin; c < endChunk;) {
         std::uint32_t end = c + 1;
-        while (end < endChunk && storage.chunkSegment[end] == storage.chunkSegment[c]) ++end;
-        storage.segments[storage.chunkSegment[c]].texels.bind(0);
+        while (end < endChunk && storage.chunkRun[end] == storage.chunkRun[c]) ++end;
+        storage.bufferOf(c).texels.bind(0);
         glUniform1ui(shader.uniform("chunkBase"), c - begin);
         glUniform1ui(shader.uniform("chunkCount"), end - c);
         dispatchGroups(end - c);
@@ -819,7 +892,7 @@ class GlBackend final : public ComputeBackend {
     };
     dispatchPerSegment(program, hydroStorage_, body.hydroChunkBegin, body.hydroChunkEnd);
     // The mass texels and block sums from the same frames (deform_mass.comp), one dispatch per
-    // mass segment the body's blocks lie in.
+    // run of mass chunks the body's blocks lie in.
     const GlProgram& mass = programs_.deformMass;
     glUseProgram(mass.id());
     tables_.massChunks.bind(1);
@@ -1070,7 +1143,7 @@ class GlBackend final : public ComputeBackend {
   }
 
   // The hydrostatics passes over global chunks [first, last) (the asked bodies' window), per
-  // segment: classification (zero, pre-summed moments, or onto the crossing list), then the texel
+  // run: classification (zero, pre-summed moments, or onto the crossing list), then the texel
   // pass over the crossing list through an indirect dispatch, so that a step reads texels of
   // waterline chunks only (under a surface that is not flat: every chunk not wholly above it, through
   // the surface kind's variant of hydrostatics_surface.comp).
@@ -1089,15 +1162,15 @@ class GlBackend final : public ComputeBackend {
     glUniform1i(programs_.classify.uniform("surfaceMode"), kind == SurfaceKind::Flat ? 0 : 1);
     glUniform1ui(programs_.classify.uniform("headBase"), headBase());
     const GLint base = programs_.classify.uniform("chunkBase"), count = programs_.classify.uniform("chunkCount");
-    const GLint segmentUniform = programs_.classify.uniform("segmentIndex"), listUniform = programs_.classify.uniform("listBase");
-    for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
-      const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
-      const std::uint32_t begin = std::max(first, segment.chunkBegin), end = std::min(last, segment.chunkEnd);
+    const GLint runUniform = programs_.classify.uniform("runIndex"), listUniform = programs_.classify.uniform("listBase");
+    for (std::size_t s = 0; s < hydroStorage_.runs.size(); ++s) {
+      const SegmentedStorage::Run& run = hydroStorage_.runs[s];
+      const std::uint32_t begin = std::max(first, run.chunkBegin), end = std::min(last, run.chunkEnd);
       if (begin >= end) continue;
       glUniform1ui(base, begin);
       glUniform1ui(count, end - begin);
-      glUniform1ui(segmentUniform, static_cast<GLuint>(s));
-      glUniform1ui(listUniform, segment.chunkBegin);
+      glUniform1ui(runUniform, static_cast<GLuint>(s));
+      glUniform1ui(listUniform, run.chunkBegin);
       dispatchGroups((end - begin + kClassifyGroup - 1) / kClassifyGroup);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
@@ -1113,11 +1186,11 @@ class GlBackend final : public ComputeBackend {
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tables_.counters.id());
     const GLint listBase = texelPass.uniform("listBase");
     if (kind != SurfaceKind::Flat) glUniform1ui(texelPass.uniform("headBase"), headBase());
-    for (std::size_t s = 0; s < hydroStorage_.segments.size(); ++s) {
-      const SegmentedStorage::Segment& segment = hydroStorage_.segments[s];
-      if (std::max(first, segment.chunkBegin) >= std::min(last, segment.chunkEnd)) continue;
-      segment.texels.bind(0);
-      glUniform1ui(listBase, segment.chunkBegin);
+    for (std::size_t s = 0; s < hydroStorage_.runs.size(); ++s) {
+      const SegmentedStorage::Run& run = hydroStorage_.runs[s];
+      if (std::max(first, run.chunkBegin) >= std::min(last, run.chunkEnd)) continue;
+      hydroStorage_.buffers[run.buffer].texels.bind(0);
+      glUniform1ui(listBase, run.chunkBegin);
       glDispatchComputeIndirect(static_cast<GLintptr>(s * sizeof(layout::SegmentCounters)));
     }
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
@@ -1138,7 +1211,7 @@ class GlBackend final : public ComputeBackend {
       out.crossingChunks += counters_[s].crossingGroups;
       out.submergedChunks += counters_[s].submergedChunks;
       list.resize(counters_[s].crossingGroups);
-      tables_.crossing.read(std::size_t(hydroStorage_.segments[s].chunkBegin) * sizeof(std::uint32_t), list.data(),
+      tables_.crossing.read(std::size_t(hydroStorage_.runs[s].chunkBegin) * sizeof(std::uint32_t), list.data(),
                             list.size() * sizeof(std::uint32_t));
       for (std::uint32_t c : list) out.texelsRead += c < hydroChunks_.size() ? hydroChunks_[c].count : 0u;
     }
@@ -1180,8 +1253,8 @@ class GlBackend final : public ComputeBackend {
     if (hydroCorrections_.empty()) tables_.corrections = GlBuffer(sizeof(layout::TexelCorrection));
     else tables_.corrections = upload(hydroCorrections_);
     tables_.crossing = GlBuffer(hydroChunks_.size() * sizeof(std::uint32_t));
-    tables_.counters = GlBuffer(hydroStorage_.segments.size() * sizeof(layout::SegmentCounters));
-    counters_.assign(hydroStorage_.segments.size(), layout::SegmentCounters{});
+    tables_.counters = GlBuffer(hydroStorage_.runs.size() * sizeof(layout::SegmentCounters));
+    counters_.assign(hydroStorage_.runs.size(), layout::SegmentCounters{});
     tablesDirty_ = false;
     // The fresh tables hold the host's chunk bounds and moments: bodies deformed on the GPU
     // evaluate theirs again from their kept vertices.
@@ -1195,18 +1268,19 @@ class GlBackend final : public ComputeBackend {
     partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
   }
 
-  // One dispatch per segment over its chunks inside [first, last) (binding 0: its texels; 4: its
-  // densities). The window spans the asked bodies only.
+  // One dispatch per run over its chunks inside [first, last) (binding 0: its buffer's texels; 4:
+  // its densities). The window spans the asked bodies only.
   // Quirk (llvmpipe): an empty workgroup still costs microseconds, so a call about one body must
   // not dispatch the chunks of the 1,000 others.
   static void runSegments(const SegmentedStorage& storage, const GlProgram& program, bool withDensities,
                           std::uint32_t first, std::uint32_t last) {
     const GLint base = program.uniform("chunkBase"), count = program.uniform("chunkCount");
-    for (const SegmentedStorage::Segment& segment : storage.segments) {
-      const std::uint32_t begin = std::max(first, segment.chunkBegin), end = std::min(last, segment.chunkEnd);
+    for (const SegmentedStorage::Run& run : storage.runs) {
+      const std::uint32_t begin = std::max(first, run.chunkBegin), end = std::min(last, run.chunkEnd);
       if (begin >= end) continue;
-      segment.texels.bind(0);
-      if (withDensities) segment.densities.bind(4);
+      const SegmentedStorage::Buffer& buffer = storage.buffers[run.buffer];
+      buffer.texels.bind(0);
+      if (withDensities) buffer.densities.bind(4);
       glUniform1ui(base, begin);
       glUniform1ui(count, end - begin);
       dispatchGroups(end - begin);
@@ -1304,7 +1378,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<layout::ChunkMoments> hydroMoments_;  // per hydro chunk
   std::vector<layout::TexelCorrection> hydroCorrections_;  // per texel of several pieces, by hydro chunk
   std::vector<std::uint32_t> hydroChunkFirst_;      // per hydro chunk: its first texel in its body
-  std::vector<layout::SegmentCounters> counters_;   // per hydro segment
+  std::vector<layout::SegmentCounters> counters_;   // per hydro run
   std::pair<std::uint32_t, std::uint32_t> lastWindow_{0, 0};
   std::vector<float> vertexScratch_;
   std::vector<Body> bodies_;

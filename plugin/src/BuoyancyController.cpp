@@ -225,7 +225,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     if (found != models_.end()) shared = found->second.lock();
   }
   if (shared && shared->backendBody) {
-    // The backend shares the first body's texels; one that cannot (GL) gets this body's own.
+    // The backend shares the first body's texels (both ours do); one that cannot gets this body's own.
     Expected<BackendBodyId> instance = backend_->addInstance(*shared->backendBody);
     if (instance) {
       floating->backendBody = *instance;

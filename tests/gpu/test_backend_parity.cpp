@@ -334,6 +334,92 @@ TEST_CASE("every backend: a body asked alone answers as in a full batch", "[back
   }
 }
 
+TEST_CASE("every backend: an instance reads its model's texels and answers as the model does", "[backend][instance]") {
+  // Bodies 4, 5, 7, 8 share the texels of 3, 1, 0 and 4 (addInstance: crates of a kind); 6 is a
+  // copy of 0 registered between them, so that on the GL backend the instances' chunks and a new
+  // body's interleave. With 64 KiB buffers every body spans several, and an instance's chunks
+  // form runs of their own in its model's buffers. Each instance, asked in a full batch at its own
+  // pose (20 m beside its model's), answers as its model asked alone at that pose: the same
+  // texels, chunk order and float partials, so 1e-12 relative (the final double sums' order).
+  gpu::GlBackendSettings small;
+  small.segmentBytes = 64 * 1024;
+  std::vector<std::unique_ptr<ComputeBackend>> backends = allBackends();
+  if (backends.size() > 1) backends.push_back(std::move(allBackends(small).back()));
+  const std::vector<std::pair<BackendBodyId, BackendBodyId>> sharing = {{4, 3}, {5, 1}, {6, 0}, {7, 0}, {8, 4}};
+  const std::vector<BackendBodyId> modelOf = {0, 1, 2, 3, 3, 1, 0, 0, 3};  // the test body each one is
+  const FlatSurface water(0.0);
+  const GerstnerWaves waves({GerstnerWave{0.1, 5.0, Eigen::Vector2d(1.0, 0.5), 0.3, 0.7}});
+  for (auto& backend : backends) {
+    INFO("backend " << backend->name() << ", " << backend->bodyCount() << " bodies before");
+    addBodies(*backend);
+    for (const auto& [id, of] : sharing) {
+      Expected<BackendBodyId> added = id == 6 ? backend->addBody(testBodies()[0].geometry.bake, testBodies()[0].geometry.textures,
+                                                                 testBodies()[0].centroid)
+                                              : backend->addInstance(of);
+      INFO((added ? std::string() : added.error().message));
+      REQUIRE(added.ok());
+      CHECK(*added == id);
+    }
+    const auto batches = poseBatches();
+    for (const LiquidSurface* surface : {static_cast<const LiquidSurface*>(&water), static_cast<const LiquidSurface*>(&waves)}) {
+      for (std::size_t b = 0; b < batches.size(); ++b) {
+        std::vector<BackendHydrostaticsQuery> batch = batches[b];
+        for (BackendBodyId id = 4; id < modelOf.size(); ++id) {
+          BackendHydrostaticsQuery q = batches[(b + id) % batches.size()][modelOf[id]];
+          q.body = id;
+          q.query.pose.translation.x() += 20.0;
+          batch.push_back(q);
+        }
+        const auto full = runBatch(*backend, *surface, batch);
+        for (std::size_t i = 4; i < batch.size(); ++i) {
+          BackendHydrostaticsQuery alone = batch[i];
+          alone.body = modelOf[alone.body];
+          const HydrostaticsResult reference = runBatch(*backend, *surface, {alone})[0];
+          const double size = testBodies()[alone.body].size;
+          INFO("body " << batch[i].body << " (test body " << alone.body << "), batch " << b);
+          CHECK(relative(full[i].submergedVolume, reference.submergedVolume) < 1e-12);
+          CHECK((full[i].buoyancyForce - reference.buoyancyForce).norm() <= 1e-12 * reference.buoyancyForce.norm());
+          CHECK((full[i].centerOfBuoyancy - reference.centerOfBuoyancy).norm() < 1e-12 * 30.0);  // |x| < 30 m
+          CHECK((full[i].torqueAboutCenterOfMass - reference.torqueAboutCenterOfMass).norm() <=
+                1e-12 * size * reference.buoyancyForce.norm() + 1e-12);
+        }
+      }
+    }
+    // Mass properties: an instance's are its model's, asked together in one batch.
+    const std::vector<BackendBodyId> ids = {3, 4, 8, 0, 7};
+    const std::vector<TextureMassModel> models(ids.size());
+    std::vector<MassProperties> mass(ids.size());
+    REQUIRE(backend->massProperties(ids, models, mass).ok());
+    for (std::size_t i : {1, 2}) {
+      CHECK(relative(mass[i].mass, mass[0].mass) < 1e-12);
+      CHECK((mass[i].inertia - mass[0].inertia).norm() < 1e-12 * mass[0].inertia.norm());
+    }
+    CHECK(relative(mass[4].mass, mass[3].mass) < 1e-12);
+    CHECK((mass[4].centerOfMass - mass[3].centerOfMass).norm() < 1e-12);
+    // Shared texels are read-only: neither the model nor an instance takes new textures; a body
+    // that shares nothing still does. An unknown model is refused.
+    const TestBody& wigley = testBodies()[3];
+    CHECK_FALSE(backend->updateSurface(3, wigley.geometry.textures).ok());
+    CHECK_FALSE(backend->updateSurface(8, wigley.geometry.textures).ok());
+    CHECK(backend->updateSurface(2, testBodies()[2].geometry.textures).ok());
+    const Expected<BackendBodyId> unknown = backend->addInstance(99);
+    REQUIRE_FALSE(unknown.ok());
+    CHECK_THAT(unknown.error().message, Catch::Contains("99"));
+    if (backend->name() == "gpu") {
+      // On the GPU a density map and a deformation live beside the texels, which are shared.
+      TextureMassModel mapped;
+      mapped.texelDensity.assign(testBodies()[1].geometry.textures.size(), 700.0f);
+      const BackendBodyId instance = 5;
+      MassProperties out;
+      const Status refused = backend->massProperties({&instance, 1}, {&mapped, 1}, {&out, 1});
+      REQUIRE_FALSE(refused.ok());
+      CHECK_THAT(refused.error().message, Catch::Contains("shares its texels"));
+      CHECK_FALSE(gpu::enableGpuDeformation(*backend, 3, wigley.geometry.bake, wigley.geometry.mesh,
+                                            wigley.geometry.atlas.layout).ok());
+    }
+  }
+}
+
 TEST_CASE("every backend: a deforming body re-evaluated from its bake", "[backend]") {
   // The sphere scaled by 1.1 about its centre: the volume of a fully submerged body grows by
   // 1.1^3 exactly (texel sums are linear in the moved vertices' positions and area vectors).

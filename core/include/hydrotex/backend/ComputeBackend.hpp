@@ -76,9 +76,10 @@ class ComputeBackend {
   virtual std::size_t bodyCount() const = 0;
 
   /// Registers a body that shares the texels of registered body `of` (the same bake, surface and
-  /// mass reference point; a crate of a kind), read-only: its own id, no copy. updateSurface on
-  /// either is then refused. Errors: unknown body; a backend that does not share (the default,
-  /// the GL one) says so, and the caller registers the body with addBody instead.
+  /// mass reference point; a crate of a kind), read-only: its own id, no copy of the texels.
+  /// updateSurface on either is then refused (and, on the GL backend, GPU deformation and density
+  /// maps, which live beside the shared texels). Errors: unknown body; a backend that does not
+  /// share (the default) says so, and the caller registers the body with addBody instead.
   virtual Expected<BackendBodyId> addInstance(BackendBodyId of) {
     (void)of;
     return Error{name() + " backend: does not share bodies' texels (addInstance); register the body with addBody"};
