@@ -32,9 +32,13 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
   const double exactError = preparedExactSurfaceError(mesh, solid->volume, surface);
   // Costs from core's model, not a timing: the same choice on every machine and run, so that a
   // scene's trajectory does not depend on the load of the machine that registered it.
-  const double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0);
-  const double textureCost =
-      modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::TextureHierarchy, mesh.triangles.size(), settings.resolution);
+  // A free surface that is not a flat plane is priced as waves (the model's figures were taken
+  // under Gerstner waves; a height grid leaves the exact path out by its error below); a medium
+  // without a free surface as flat water (no surface to model).
+  const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
+  const double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  const double textureCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::TextureHierarchy,
+                                                         mesh.triangles.size(), settings.resolution, waves);
   if (exactError <= target && exactCost <= textureCost) return HydrostaticsMethod::Polyhedral;  // nothing to measure
   // The texture path's error at the body's resolution, measured against the exact path in flat
   // water (under waves its texels see the surface's true height at their centres, a far finer

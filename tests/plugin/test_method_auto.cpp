@@ -29,12 +29,30 @@ TEST_CASE("method auto: the advisor picks the exact path for a low-poly body, th
   REQUIRE(low != nullptr);
   CHECK(world.controller().report(low)->method == bullet::HydrostaticsMethod::Polyhedral);
   // A 32k-triangle sphere under a 1e-2 target: the texture path at 64^2 meets it (its error is
-  // about 3e-4, README) at a small fraction of the exact path's time (about 40 times less).
+  // about 3e-4, README) in a third of the exact path's time (modeled 9.7 against 23.5 us,
+  // measured 6.9 against 20.9).
   FloatingBodySettings sphere = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
   sphere.autoMethodError = 1e-2;
   btRigidBody* high = world.add(primitives::uvSphere(0.5, 256, 64), sphere, btVector3(5, 0, 0));
   REQUIRE(high != nullptr);
   CHECK(world.controller().report(high)->method == bullet::HydrostaticsMethod::Texture);
+  // A 17,160-triangle sphere: the exact path visits the triangles along its waterline (about
+  // sqrt(T)), so it is the cheaper at 256^2 (modeled 17.2 against 32.7 us; measured 12.1-12.4
+  // against 28, Advisor.hpp), where a cost linear in T had sent it to the texture path; at 64^2
+  // the texture path is (17.2 against 9.7 modeled, 11.9 against 6.9 measured) when it meets the
+  // target.
+  auto middle = std::make_shared<const Mesh>(primitives::uvSphere(0.5, 132, 66));
+  REQUIRE(middle->triangles.size() == 17160);
+  FloatingBodySettings fine = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto, 256);
+  fine.autoMethodError = 1e-2;
+  btRigidBody* exactSphere = world.add(*middle, fine, btVector3(10, 0, 0));
+  REQUIRE(exactSphere != nullptr);
+  CHECK(world.controller().report(exactSphere)->method == bullet::HydrostaticsMethod::Polyhedral);
+  FloatingBodySettings coarse = fine;
+  coarse.resolution = 64;
+  btRigidBody* textureSphere = world.add(*middle, coarse, btVector3(15, 0, 0));
+  REQUIRE(textureSphere != nullptr);
+  CHECK(world.controller().report(textureSphere)->method == bullet::HydrostaticsMethod::Texture);
   // Explicit methods are reported as given.
   btRigidBody* given = world.add(primitives::box({1.0, 0.5, 1.0}), solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Texture),
                                  btVector3(-5, 0, 0));
@@ -52,7 +70,10 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
   // 0.16 of the volume. The prepared path the controller runs models the surface over its
   // triangles instead (test_polyhedral_hydrostatics_waves: within 4.4e-5 V of the per-texel
   // answer, this box under this sea 2.2e-5): beyond its flat-water exactness it has no error of
-  // its own to count, and it is the cheaper: the exact path.
+  // its own to count. At 256^2 it is also the cheaper (modeled under waves 31.2 against 86.8 us;
+  // measured under bench_peers' sea 38 against 48): the exact path. At 64^2 the texture path is
+  // the cheaper (29.2 against 31.2 modeled, 26 against 38 measured) and takes the body when it
+  // meets the target.
   const auto logWaves = std::make_shared<GerstnerWaves>(
       std::vector<GerstnerWave>{GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
                                 GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
@@ -62,7 +83,7 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
   CHECK(*surfaceCurvatureBound(*logWaves) == Approx(0.2400 / (0.8587 * 0.8587)).epsilon(2e-3));
   CHECK(exactLinearizationError(box, 0.5, *logWaves) == Approx(0.325 * 2.0 / 8.0 * 1.0 / 0.5).epsilon(3e-3));
   CHECK(preparedExactSurfaceError(box, 0.5, *logWaves) == 0.0);
-  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto);
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto, 256);
   settings.autoMethodError = 1e-3;
   {
     TestWorld world(logWaves);
@@ -71,6 +92,15 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
     CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Polyhedral);
     for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
     CHECK(world.controller().statistics().failedQueries == 0);
+  }
+  {
+    FloatingBodySettings coarse = settings;
+    coarse.resolution = 64;
+    coarse.autoMethodError = 1e-2;
+    TestWorld world(logWaves);
+    btRigidBody* body = world.add(box, coarse, btVector3(0, 0, 0));
+    REQUIRE(body != nullptr);
+    CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Texture);
   }
   // A long low swell (100 m, 5 cm): the plain path's linearization within 1e-4 of the volume,
   // the interpolated heights' bound (kExactWaveHeightError x 1 m^2 / 0.5 m^3 = 6.7e-6) beside

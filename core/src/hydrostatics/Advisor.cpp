@@ -139,15 +139,15 @@ Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, cons
   return measurement;
 }
 
-double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution) {
-  const double r = double(resolution);
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves) {
+  const double r = double(resolution), rootT = std::sqrt(double(triangles));
   switch (method) {
     case HydrostaticsMethod::Exact:
-      return 0.5 + 0.006 * double(triangles);
+      return waves ? 30.0 + 0.35 * rootT : 0.2 + 0.13 * rootT;
     case HydrostaticsMethod::TextureHierarchy:
-      return 2.0 + 0.12 * r;
+      return waves ? 10.0 + 0.3 * r : 2.0 + 0.12 * r;
     case HydrostaticsMethod::TextureBruteForce:
-      return 2.0 + 0.02 * r * r;
+      return waves ? 100.0 + 0.055 * r * r : 10.0 + 0.0045 * r * r;
   }
   return 0.0;
 }

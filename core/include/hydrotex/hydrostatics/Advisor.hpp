@@ -91,16 +91,22 @@ struct TimingSettings {
   bool modeled = false;
 };
 
-/// A model of the time of one query (us) in flat water, for choices that must not depend on the
-/// machine or its load: the exact path 0.5 + 0.006 T for a mesh of T triangles (it clips every
-/// triangle), the texture path's tile hierarchy 2 + 0.12 R at R texels a side (it visits the tiles
-/// the waterline crosses, about R of them; the brute force 0.02 R^2). The exact path's figure is
-/// what a body stepped by the controller runs, a PreparedPolyhedron: 4-8 ns a triangle on
-/// bench_peers' box, 320-face hull, Wigley hull and 17,160-triangle sphere (2-core reference
-/// machine, 2026-11; the unprepared call is 12-24 ns). The hierarchy: 20-50 us at 256^2 and
-/// 175-380 us at 1024^2-2048^2 on bench_hydrostatics' icospheres, 27-94 us at 256^2 on
-/// bench_peers' bodies. A ranking, not a prediction of one machine's time.
-double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution);
+/// A model of the time of one query (us), for choices that must not depend on the machine or its
+/// load, in flat water or (`waves`) under Gerstner waves. For a mesh of T triangles the exact path
+/// is what a body stepped by the controller runs, a PreparedPolyhedron: its hierarchy visits the
+/// triangles along the waterline, about sqrt(T) of them: 0.2 + 0.13 sqrt(T) in flat water, 30 +
+/// 0.35 sqrt(T) under waves (the surface modelled over the nodes it crosses). The texture path's
+/// tile hierarchy at R texels a side visits the tiles the waterline crosses, about R of them: 2 +
+/// 0.12 R, under waves 10 + 0.3 R; its brute force every texel: 10 + 0.0045 R^2, under waves 100
+/// + 0.055 R^2. Fitted to one query at a time (median of 5) on a body tilted 6 and 2 degrees,
+/// floating at its centre of mass, under bench_peers' three waves (2-core reference machine,
+/// 2026-11): exact 0.22 / 38 us (box), 1.5 / 34 (320-face hull), 3.0 / 33 (1,280-face
+/// icosphere), 13 / 144 (Wigley hull, 4,222), 12 / 65 (17,160-face sphere), 16-19 / 90
+/// (20,480-face icosphere), 21 / 98 (32,256), 33 / 119 (65,024); the hierarchy 7-11 / 22-38 us at
+/// 64^2, 14-19 / 40-52 at 128^2, 26-36 / 48-92 at 256^2 (the Wigley hull 80 / 252); the brute
+/// force on the 1,280-face icosphere 31 / 339, 93 / 1,101, 298 / 3,689 us at 64^2, 128^2, 256^2.
+/// A ranking, not a prediction of one machine's time.
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves = false);
 
 /// Median over `settings.runs` batches of the mean wall time of one call of `work` (s), on the
 /// calling thread, after one warm-up call. A batch holds as many calls as fit in batchSeconds

@@ -138,8 +138,9 @@ enum class HydrostaticsMethod {
   Texture,     ///< texel sums (any surface: flat, waves, grids, gases)
   Polyhedral,  ///< exact clipping of the triangle mesh (any surface; waves and grids linearized between vertices)
   /// Resolved at addBody to Texture or Polyhedral (the report's `method` says which), the same way
-  /// on every machine and run: by core's cost model (modeledMicrosecondsPerQuery: the exact path
-  /// 0.5 + 0.006 us a triangle, the texture path 2 + 0.12 us a texel of side), the exact path when
+  /// on every machine and run: by core's cost model (modeledMicrosecondsPerQuery: in flat water
+  /// the exact path 0.2 + 0.13 sqrt(triangles) us, the texture path 2 + 0.12 us a texel of side;
+  /// under waves 30 + 0.35 sqrt(triangles) and 10 + 0.3 a texel of side), the exact path when
   /// it is the cheaper and within `autoMethodError`, without measuring anything; otherwise core's
   /// advisor measures the texture path at the body's `resolution` against the exact path over 20
   /// poses in flat water (a bake), and the texture path is taken when its volume and
