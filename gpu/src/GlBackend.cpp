@@ -1265,7 +1265,8 @@ class GlBackend final : public ComputeBackend {
     tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     tables_.headResults = GlBuffer(bodies * sizeof(layout::BodySums));
-    partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
+    // The host reads the chunk partials back only to sum them itself (48 bytes a chunk).
+    if (!finalOnGpu_) partials_.resize(std::max(hydroChunks_.size(), massChunks_.size()));
   }
 
   // One dispatch per run over its chunks inside [first, last) (binding 0: its buffer's texels; 4:
@@ -1389,7 +1390,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<Eigen::Vector3d> origins_;     // per query of the current call: the frame origin o (m, world)
   std::vector<float> dryLevels_, surfaceScratch_, bodyScratch_;
   std::vector<layout::GerstnerComponent> waveScratch_;
-  std::vector<layout::Partial> partials_;
+  std::vector<layout::Partial> partials_;  // per chunk, with the final sum on the CPU only
   Tables tables_;
   bool tablesDirty_ = true;
   std::uint64_t batch_ = 0;
