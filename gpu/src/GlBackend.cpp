@@ -242,7 +242,10 @@ class GlBackend final : public ComputeBackend {
     body.texelCount = count;
     body.referencePoint = referencePoint;
     const auto id = static_cast<std::uint32_t>(bodies_.size());
+    body.source = id;
     body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
+    body.momentBegin = hydroMoments_.size();
+    body.blockBegin = blocks_.size();
     body.correctionBegin = hydroCorrections_.size();
     std::size_t corrected = 0;  // the textures' moment corrections placed so far (ascending texels)
     for (const auto& [first, chunkCount] : hydroChunkRuns(bake)) {
@@ -280,8 +283,9 @@ class GlBackend final : public ComputeBackend {
   }
 
   // The instance gets chunk records of its own (its body index, its poses and sums) that read the
-  // model's texels, corrections and bounds where they lie; the per-chunk moments and block sums
-  // (176 bytes a chunk) are copied so that the passes index everything by the instance's chunks.
+  // model's texels, corrections and bounds where they lie. The host keeps the chunk moments and
+  // block sums (192 bytes a chunk) once, the model's; ensureTables writes them at each instance's
+  // chunks on the GPU, where the passes index everything by chunk.
   Expected<BackendBodyId> addInstance(BackendBodyId of) override {
     if (of >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(of)};
     if (bodies_[of].deformation)
@@ -301,26 +305,23 @@ class GlBackend final : public ComputeBackend {
     body.correctionEnd = model.correctionEnd;
     body.sumA = model.sumA;
     body.shared = true;
+    body.source = model.source;
     body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
     for (std::uint32_t c = model.hydroChunkBegin; c < model.hydroChunkEnd; ++c) {
       layout::Chunk chunk = hydroChunks_[c];
       chunk.body = id;
       const std::uint32_t first = hydroChunkFirst_[c];
-      const layout::ChunkMoments moments = hydroMoments_[c];
       hydroStorage_.share(static_cast<std::uint32_t>(hydroChunks_.size()), c);
       hydroChunks_.push_back(chunk);
       hydroChunkFirst_.push_back(first);
-      hydroMoments_.push_back(moments);
     }
     body.hydroChunkEnd = static_cast<std::uint32_t>(hydroChunks_.size());
     body.massChunkBegin = static_cast<std::uint32_t>(massChunks_.size());
     for (std::uint32_t c = model.massChunkBegin; c < model.massChunkEnd; ++c) {
       layout::Chunk chunk = massChunks_[c];
       chunk.body = id;
-      const layout::BlockGeometry block = blocks_[c];
       massStorage_.share(static_cast<std::uint32_t>(massChunks_.size()), c);
       massChunks_.push_back(chunk);
-      blocks_.push_back(block);
     }
     body.massChunkEnd = static_cast<std::uint32_t>(massChunks_.size());
     bodies_[of].shared = true;
@@ -703,6 +704,8 @@ class GlBackend final : public ComputeBackend {
     bool momentsPending = false;     // its chunk moments (for sumPA) wait on the GPU
     bool massPending = false;        // its mass block sums wait on the GPU
     bool shared = false;             // its texels serve several bodies (addInstance): read-only
+    std::uint32_t source = 0;        // the body whose texels, moments and block sums it reads (itself, or its model)
+    std::size_t momentBegin = 0, blockBegin = 0;  // its entries of hydroMoments_ and blocks_ (a source's only)
   };
   struct Tables {
     GlBuffer hydroChunks, massChunks, poses, hydroRanges, massRanges, blocks, results;
@@ -770,7 +773,7 @@ class GlBackend final : public ComputeBackend {
       const double area = textures.area[i];
       mass[i] = {{float(d.x()), float(d.y()), float(d.z()), float(volume)}};
       const Eigen::Matrix3d covariance = texelCovariance(u.cast<double>(), v.cast<double>(), area);
-      layout::BlockGeometry& block = blocks_[body.massChunkBegin + i / kMassChunkTexels];
+      layout::BlockGeometry& block = blocks_[body.blockBegin + i / kMassChunkTexels];
       if (i % kMassChunkTexels == 0) block = layout::BlockGeometry{};
       const Eigen::Matrix3d cone = 0.6 * volume * covariance;
       const double terms[6] = {cone(0, 0), cone(1, 1), cone(2, 2), cone(0, 1), cone(0, 2), cone(1, 2)};
@@ -825,7 +828,7 @@ class GlBackend final : public ComputeBackend {
       chunk.halfX = float(half.x());
       chunk.halfY = float(half.y());
       chunk.halfZ = float(half.z());
-      hydroMoments_[c] = chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
+      hydroMoments_[body.momentBegin + (c - body.hydroChunkBegin)] = chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
                                       Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
       hydroStorage_.bufferOf(c).texels.write(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
@@ -918,7 +921,7 @@ class GlBackend final : public ComputeBackend {
     static constexpr int kPair[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};  // MassBlock's order
     for (std::size_t b = 0; b < sums.size(); ++b) {
       const float* v = sums[b].value;
-      layout::BlockGeometry& block = blocks_[body.massChunkBegin + b];
+      layout::BlockGeometry& block = blocks_[body.blockBegin + b];
       block = layout::BlockGeometry{};
       for (int k = 0; k < 6; ++k) block.covariance[k] = v[k];
       block.absVolume = v[6];
@@ -934,7 +937,7 @@ class GlBackend final : public ComputeBackend {
     body.shellArea -= body.lids.area;
     body.shellFirst -= body.lids.first;
     body.shellSecond -= body.lids.second;
-    tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.massChunkBegin,
+    tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.blockBegin,
                          sums.size() * sizeof(layout::BlockGeometry));
     body.massPending = false;
   }
@@ -1247,8 +1250,16 @@ class GlBackend final : public ComputeBackend {
     tables_.massChunks = upload(massChunks_);
     tables_.hydroRanges = upload(hydroRanges_);
     tables_.massRanges = upload(massRanges_);
-    tables_.blocks = upload(blocks_);
-    tables_.chunkMoments = upload(hydroMoments_);
+    // Per chunk on the GPU, each body's from its source's (the model's, for an instance).
+    tables_.blocks = GlBuffer(massChunks_.size() * sizeof(layout::BlockGeometry));
+    tables_.chunkMoments = GlBuffer(hydroChunks_.size() * sizeof(layout::ChunkMoments));
+    for (const Body& body : bodies_) {
+      const Body& source = bodies_[body.source];
+      tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + source.blockBegin,
+                           (body.massChunkEnd - body.massChunkBegin) * sizeof(layout::BlockGeometry));
+      tables_.chunkMoments.write(body.hydroChunkBegin * sizeof(layout::ChunkMoments), hydroMoments_.data() + source.momentBegin,
+                                 (body.hydroChunkEnd - body.hydroChunkBegin) * sizeof(layout::ChunkMoments));
+    }
     // Never an empty buffer (a body whose texels each lie on one triangle has no correction).
     if (hydroCorrections_.empty()) tables_.corrections = GlBuffer(sizeof(layout::TexelCorrection));
     else tables_.corrections = upload(hydroCorrections_);
@@ -1351,7 +1362,7 @@ class GlBackend final : public ComputeBackend {
               continue;
             }
             // Same as reduce_partials.comp.
-            const layout::BlockGeometry& block = blocks_[c];
+            const layout::BlockGeometry& block = blocks_[bodies_[bodies_[b].source].blockBegin + (c - ranges[b].chunkBegin)];
             const double meanDensity = ranges[b].mode == 1 ? (block.absVolume > 0.0 ? v[10] / block.absVolume : 0.0)
                                                            : double(ranges[b].uniformDensity);
             s[0] += v[0];
@@ -1375,8 +1386,8 @@ class GlBackend final : public ComputeBackend {
   Programs programs_;
   SegmentedStorage hydroStorage_, massStorage_;
   std::vector<layout::Chunk> hydroChunks_, massChunks_;
-  std::vector<layout::BlockGeometry> blocks_;  // per mass chunk
-  std::vector<layout::ChunkMoments> hydroMoments_;  // per hydro chunk
+  std::vector<layout::BlockGeometry> blocks_;       // per mass chunk of a body with texels of its own (Body::blockBegin)
+  std::vector<layout::ChunkMoments> hydroMoments_;  // per hydro chunk of such a body (Body::momentBegin)
   std::vector<layout::TexelCorrection> hydroCorrections_;  // per texel of several pieces, by hydro chunk
   std::vector<std::uint32_t> hydroChunkFirst_;      // per hydro chunk: its first texel in its body
   std::vector<layout::SegmentCounters> counters_;   // per hydro run
