@@ -828,8 +828,9 @@ class GlBackend final : public ComputeBackend {
       chunk.halfX = float(half.x());
       chunk.halfY = float(half.y());
       chunk.halfZ = float(half.z());
-      hydroMoments_[body.momentBegin + (c - body.hydroChunkBegin)] = chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
-                                      Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
+      hydroMoments_[body.momentBegin + (c - body.hydroChunkBegin)] =
+          chunkMoments(textures, first, chunk, hydroCorrections_.data() + chunk.correctionBegin,
+                       Eigen::Vector3d(chunk.centerX, chunk.centerY, chunk.centerZ));
       hydroStorage_.bufferOf(c).texels.write(
           std::size_t(chunk.begin) * sizeof(layout::HydroTexel), hydro.data() + first, chunk.count * sizeof(layout::HydroTexel));
     }
