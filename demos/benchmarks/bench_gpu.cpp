@@ -82,8 +82,17 @@ BodyGeometry prepare(const Mesh& mesh, int resolution) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Positional only: an option-like first argument (--help) is not taken for the CSV's path.
+  if (argc > 1 && argv[1][0] == '-') {
+    std::fprintf(stderr, "usage: bench_gpu [CSV [BANDWIDTH_GBS]] ('%s' is not a file name this bench takes)\n", argv[1]);
+    return std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ? 0 : 2;
+  }
   const std::string csvPath = argc > 1 ? argv[1] : "bench_gpu.csv";
   const double bandwidth = argc > 2 ? std::atof(argv[2]) * 1e9 : hostReadBandwidth();
+  if (argc > 2 && !(bandwidth > 0.0)) {
+    std::fprintf(stderr, "bench_gpu: bandwidth '%s' GB/s is not a positive number\n", argv[2]);
+    return 2;
+  }
   constexpr std::size_t kBodies = 1000;
   std::vector<Row> rows;
 
