@@ -71,14 +71,15 @@ struct SegmentedStorage {
   std::vector<Run> runs;
   std::vector<std::uint32_t> chunkRun;  // per global chunk
 
+  // Before a body's chunks are placed: a body of `count` elements that fits in one buffer starts a
+  // new one rather than straddle two, so that its instances' chunks, which read its buffer, form
+  // one run with each other instead of one per buffer each (two dispatches a run and step).
+  void keepTogether(std::size_t count) {
+    if (!buffers.empty() && buffers.back().used + count > capacity && count <= capacity) openBuffer();
+  }
   // Places chunk `chunkIndex` of `count` elements; returns its first element in its buffer.
   std::uint32_t place(std::uint32_t chunkIndex, std::uint32_t count) {
-    if (buffers.empty() || buffers.back().used + count > capacity) {
-      Buffer buffer;
-      buffer.texels = GlBuffer(capacity * elementBytes);
-      if (withDensities) buffer.densities = GlBuffer(capacity * sizeof(float));
-      buffers.push_back(std::move(buffer));
-    }
+    if (buffers.empty() || buffers.back().used + count > capacity) openBuffer();
     const auto begin = static_cast<std::uint32_t>(buffers.back().used);
     buffers.back().used += count;
     extendRuns(chunkIndex, static_cast<std::uint32_t>(buffers.size() - 1));
@@ -90,6 +91,12 @@ struct SegmentedStorage {
   const Buffer& bufferOf(std::uint32_t chunk) const { return buffers[runs[chunkRun[chunk]].buffer]; }
 
  private:
+  void openBuffer() {
+    Buffer buffer;
+    buffer.texels = GlBuffer(capacity * elementBytes);
+    if (withDensities) buffer.densities = GlBuffer(capacity * sizeof(float));
+    buffers.push_back(std::move(buffer));
+  }
   // A run holds at most kMaxGroupsX chunks, so that its indirect dispatch (one group per crossing
   // chunk, x only) stays within GL's guaranteed group count.
   void extendRuns(std::uint32_t chunkIndex, std::uint32_t buffer) {
@@ -247,6 +254,8 @@ class GlBackend final : public ComputeBackend {
     body.momentBegin = hydroMoments_.size();
     body.blockBegin = blocks_.size();
     body.correctionBegin = hydroCorrections_.size();
+    hydroStorage_.keepTogether(count);
+    massStorage_.keepTogether(count);
     std::size_t corrected = 0;  // the textures' moment corrections placed so far (ascending texels)
     for (const auto& [first, chunkCount] : hydroChunkRuns(bake)) {
       layout::Chunk chunk{};
@@ -292,18 +301,7 @@ class GlBackend final : public ComputeBackend {
       return Error{"gpu backend: body " + std::to_string(of) + " deforms on the GPU; a deforming body's texels are not shared"};
     const Body& model = bodies_[of];
     const auto id = static_cast<std::uint32_t>(bodies_.size());
-    Body body;
-    body.texelCount = model.texelCount;
-    body.referencePoint = model.referencePoint;
-    body.totalVolume = model.totalVolume;
-    body.shellArea = model.shellArea;
-    body.shellFirst = model.shellFirst;
-    body.shellSecond = model.shellSecond;
-    body.lids = model.lids;
-    body.sumPA = model.sumPA;
-    body.correctionBegin = model.correctionBegin;
-    body.correctionEnd = model.correctionEnd;
-    body.sumA = model.sumA;
+    Body body;  // its texel sums are its source's (sourceOf), not copied
     body.shared = true;
     body.source = model.source;
     body.hydroChunkBegin = static_cast<std::uint32_t>(hydroChunks_.size());
@@ -454,13 +452,14 @@ class GlBackend final : public ComputeBackend {
     if (id >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(id)};
     if (Status s = context_->makeCurrent(); !s) return s.error();
     ensureTables();
-    const Body& body = bodies_[id];
+    const Body& body = bodies_[id];       // its chunks
+    const Body& source = sourceOf(id);    // its texel count and corrections
     SurfaceTextures out;
-    out.position.resize(body.texelCount);
-    out.areaVector.resize(body.texelCount);
-    out.area.resize(body.texelCount);
-    out.edgeU.resize(body.texelCount);
-    out.edgeV.resize(body.texelCount);
+    out.position.resize(source.texelCount);
+    out.areaVector.resize(source.texelCount);
+    out.area.resize(source.texelCount);
+    out.edgeU.resize(source.texelCount);
+    out.edgeV.resize(source.texelCount);
     std::vector<layout::HydroTexel> texels;
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       const layout::Chunk& chunk = hydroChunks_[c];
@@ -477,14 +476,14 @@ class GlBackend final : public ComputeBackend {
         out.edgeV[i] = Eigen::Vector3f(t.vx, t.vy, t.vz);
       }
     }
-    std::vector<layout::TexelCorrection> corrections(body.correctionEnd - body.correctionBegin);
+    std::vector<layout::TexelCorrection> corrections(source.correctionEnd - source.correctionBegin);
     if (!corrections.empty())
-      tables_.corrections.read(body.correctionBegin * sizeof(layout::TexelCorrection), corrections.data(),
+      tables_.corrections.read(source.correctionBegin * sizeof(layout::TexelCorrection), corrections.data(),
                                corrections.size() * sizeof(layout::TexelCorrection));
     for (std::uint32_t c = body.hydroChunkBegin; c < body.hydroChunkEnd; ++c) {
       const layout::Chunk& chunk = hydroChunks_[c];
       for (std::uint32_t k = 0; k < chunk.correctionCount; ++k) {
-        const layout::TexelCorrection& correction = corrections[chunk.correctionBegin - body.correctionBegin + k];
+        const layout::TexelCorrection& correction = corrections[chunk.correctionBegin - source.correctionBegin + k];
         out.momentTexel.push_back(hydroChunkFirst_[c] + correction.texel);
         out.momentCorrection.push_back(Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(correction.moment));
         out.momentReach.push_back(correction.reach);
@@ -562,7 +561,7 @@ class GlBackend final : public ComputeBackend {
     if (Status s = finalSums(false, low, high, *kind != SurfaceKind::Flat, &runMeanwhile); !s) return s;
 
     for (std::size_t i = 0; i < queries.size(); ++i) {
-      const Body& body = bodies_[queries[i].body];
+      const Body& body = sourceOf(queries[i].body);  // its Sum p A^T and Sum A
       const HydrostaticsQuery& q = queries[i].query;
       const double* v = sums_[queries[i].body].value;
       const FlatWettedSums wetted{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10]};
@@ -612,9 +611,9 @@ class GlBackend final : public ComputeBackend {
       if (!model.texelDensity.empty() && bodies_[ids[i]].shared)
         return Error{"gpu backend: body " + std::to_string(ids[i]) +
                      " shares its texels with another (addInstance); a density map needs a body of its own"};
-      if (!model.texelDensity.empty() && model.texelDensity.size() != bodies_[ids[i]].texelCount)
+      if (!model.texelDensity.empty() && model.texelDensity.size() != sourceOf(ids[i]).texelCount)
         return Error{"density map has " + std::to_string(model.texelDensity.size()) + " texels, the bake has " +
-                     std::to_string(bodies_[ids[i]].texelCount)};
+                     std::to_string(sourceOf(ids[i]).texelCount)};
       if (!std::isfinite(model.solidDensity) || model.solidDensity < 0.0)
         return Error{"solid density " + std::to_string(model.solidDensity) + " kg/m^3 is negative or not finite"};
       if (!std::isfinite(model.shellDensity) || model.shellDensity < 0.0)
@@ -646,7 +645,7 @@ class GlBackend final : public ComputeBackend {
     if (Status s = finalSums(true, *low, *high + 1); !s) return s;
 
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      const Body& body = bodies_[ids[i]];
+      const Body& body = sourceOf(ids[i]);  // its shell sums, volume and reference point
       const TextureMassModel& model = models[i];
       const double* v = sums_[ids[i]].value;
       if (!model.texelDensity.empty() && (!(v[10] >= 0.0) || !std::isfinite(v[0])))
@@ -704,7 +703,9 @@ class GlBackend final : public ComputeBackend {
     bool momentsPending = false;     // its chunk moments (for sumPA) wait on the GPU
     bool massPending = false;        // its mass block sums wait on the GPU
     bool shared = false;             // its texels serve several bodies (addInstance): read-only
-    std::uint32_t source = 0;        // the body whose texels, moments and block sums it reads (itself, or its model)
+    // The body whose texels, texel sums (above: texelCount to sumA), moments and block sums it
+    // reads: itself, or its model's source. An instance keeps only its chunks and its batch.
+    std::uint32_t source = 0;
     std::size_t momentBegin = 0, blockBegin = 0;  // its entries of hydroMoments_ and blocks_ (a source's only)
   };
   struct Tables {
@@ -727,6 +728,9 @@ class GlBackend final : public ComputeBackend {
     GlProgram gerstner, grid, medium;  // hydrostatics_surface.comp's variants
     GlProgram deformMass;
   };
+
+  // The body whose texels and texel sums `id` reads (itself unless an instance).
+  const Body& sourceOf(BackendBodyId id) const { return bodies_[bodies_[id].source]; }
 
   static Status checkTextures(const SurfaceTextures& textures, std::size_t count) {
     if (textures.size() != count || textures.areaVector.size() != count || textures.area.size() != count ||
@@ -1209,6 +1213,8 @@ class GlBackend final : public ComputeBackend {
     if (!context_->makeCurrent() || counters_.empty()) return out;
     const auto [first, last] = lastWindow_;
     out.chunks = last - first;
+    for (const SegmentedStorage::Run& run : hydroStorage_.runs)
+      if (std::max(first, run.chunkBegin) < std::min(last, run.chunkEnd)) ++out.runs;
     tables_.counters.read(0, counters_.data(), counters_.size() * sizeof(layout::SegmentCounters));
     std::vector<std::uint32_t> list;
     for (std::size_t s = 0; s < counters_.size(); ++s) {
@@ -1251,16 +1257,30 @@ class GlBackend final : public ComputeBackend {
     tables_.massChunks = upload(massChunks_);
     tables_.hydroRanges = upload(hydroRanges_);
     tables_.massRanges = upload(massRanges_);
-    // Per chunk on the GPU, each body's from its source's (the model's, for an instance).
+    // Per chunk on the GPU, each body's from its source's (the model's, for an instance); bodies
+    // whose entries follow each other in both (every body without instances) in one write.
     tables_.blocks = GlBuffer(massChunks_.size() * sizeof(layout::BlockGeometry));
     tables_.chunkMoments = GlBuffer(hydroChunks_.size() * sizeof(layout::ChunkMoments));
-    for (const Body& body : bodies_) {
-      const Body& source = bodies_[body.source];
-      tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + source.blockBegin,
-                           (body.massChunkEnd - body.massChunkBegin) * sizeof(layout::BlockGeometry));
-      tables_.chunkMoments.write(body.hydroChunkBegin * sizeof(layout::ChunkMoments), hydroMoments_.data() + source.momentBegin,
-                                 (body.hydroChunkEnd - body.hydroChunkBegin) * sizeof(layout::ChunkMoments));
-    }
+    auto expand = [&](GlBuffer& buffer, const auto& hostEntries, std::uint32_t Body::*chunkBegin,
+                      std::uint32_t Body::*chunkEnd, std::size_t Body::*entryBegin) {
+      const std::size_t bytes = sizeof(hostEntries[0]);
+      std::size_t chunk = 0, entry = 0, count = 0;  // the write being gathered
+      for (const Body& body : bodies_) {
+        const std::size_t from = bodies_[body.source].*entryBegin, size = body.*chunkEnd - body.*chunkBegin;
+        if (count > 0 && (body.*chunkBegin != chunk + count || from != entry + count)) {
+          buffer.write(chunk * bytes, hostEntries.data() + entry, count * bytes);
+          count = 0;
+        }
+        if (count == 0) {
+          chunk = body.*chunkBegin;
+          entry = from;
+        }
+        count += size;
+      }
+      if (count > 0) buffer.write(chunk * bytes, hostEntries.data() + entry, count * bytes);
+    };
+    expand(tables_.blocks, blocks_, &Body::massChunkBegin, &Body::massChunkEnd, &Body::blockBegin);
+    expand(tables_.chunkMoments, hydroMoments_, &Body::hydroChunkBegin, &Body::hydroChunkEnd, &Body::momentBegin);
     // Never an empty buffer (a body whose texels each lie on one triangle has no correction).
     if (hydroCorrections_.empty()) tables_.corrections = GlBuffer(sizeof(layout::TexelCorrection));
     else tables_.corrections = upload(hydroCorrections_);

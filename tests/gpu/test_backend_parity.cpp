@@ -340,8 +340,9 @@ TEST_CASE("every backend: an instance reads its model's texels and answers as th
   // body's interleave. With 64 KiB buffers every body spans several, and an instance's chunks
   // form runs of their own in its model's buffers; that backend also sums on the CPU, from the
   // model's block sums, which the host keeps once. Each instance, asked in a full batch at its own
-  // pose (20 m beside its model's), answers as its model asked alone at that pose: the same
-  // texels, chunk order and float partials, so 1e-12 relative (the final double sums' order).
+  // pose (20 m beside its model's), under water, waves and air, answers as its model asked alone
+  // at that pose: the same texels, chunk order and float partials, so 1e-12 relative (the final
+  // double sums' order).
   gpu::GlBackendSettings small;
   small.segmentBytes = 64 * 1024;
   small.finalSum = gpu::FinalSum::Cpu;
@@ -351,6 +352,7 @@ TEST_CASE("every backend: an instance reads its model's texels and answers as th
   const std::vector<BackendBodyId> modelOf = {0, 1, 2, 3, 3, 1, 0, 0, 3};  // the test body each one is
   const FlatSurface water(0.0);
   const GerstnerWaves waves({GerstnerWave{0.1, 5.0, Eigen::Vector2d(1.0, 0.5), 0.3, 0.7}});
+  const UniformMedium air(1.225, 8400.0, 0.0);  // the medium's pressure reads the body's Sum p A^T and Sum A
   std::vector<MassProperties> referenceMass;  // the CPU backend's
   for (auto& backend : backends) {
     INFO("backend " << backend->name() << " on " << backend->renderer());
@@ -364,7 +366,8 @@ TEST_CASE("every backend: an instance reads its model's texels and answers as th
       CHECK(*added == id);
     }
     const auto batches = poseBatches();
-    for (const LiquidSurface* surface : {static_cast<const LiquidSurface*>(&water), static_cast<const LiquidSurface*>(&waves)}) {
+    for (const LiquidSurface* surface : {static_cast<const LiquidSurface*>(&water), static_cast<const LiquidSurface*>(&waves),
+                                         static_cast<const LiquidSurface*>(&air)}) {
       for (std::size_t b = 0; b < batches.size(); ++b) {
         std::vector<BackendHydrostaticsQuery> batch = batches[b];
         for (BackendBodyId id = 4; id < modelOf.size(); ++id) {
@@ -428,6 +431,37 @@ TEST_CASE("every backend: an instance reads its model's texels and answers as th
                                             wigley.geometry.atlas.layout).ok());
     }
   }
+}
+
+TEST_CASE("GL backend: a body that fits one buffer keeps to one, and its instances dispatch as one run", "[backend][gpu][instance]") {
+  // Buffers of 2.5 boxes: two boxes fill most of the first; the third would straddle it and the
+  // next, and starts the second instead. Its 20 instances read that buffer and follow each other,
+  // so all 23 bodies asked together dispatch 2 runs (one per buffer); a straddling model would
+  // give its instances one run per buffer each (42 runs more).
+  const TestBody& box = testBodies()[0];
+  gpu::GlBackendSettings settings;
+  settings.segmentBytes = box.geometry.textures.size() * 52 * 5 / 2;  // 52 bytes a texel (HydroTexel)
+  Expected<std::unique_ptr<gpu::EglContext>> context = gpu::EglContext::create();
+  if (!context) {
+    WARN("GL backend skipped, no headless EGL context: " << context.error().message);
+    return;
+  }
+  Expected<std::unique_ptr<ComputeBackend>> made = gpu::makeGlBackend(std::move(context).value(), settings);
+  REQUIRE(made.ok());
+  ComputeBackend& gl = **made;
+  for (int i = 0; i < 3; ++i) REQUIRE(gl.addBody(box.geometry.bake, box.geometry.textures, box.centroid).ok());
+  for (int i = 0; i < 20; ++i) REQUIRE(gl.addInstance(2).ok());
+  std::vector<BackendHydrostaticsQuery> batch(23);
+  for (BackendBodyId id = 0; id < batch.size(); ++id) {
+    batch[id].body = id;
+    batch[id].query.pose.translation = Eigen::Vector3d(3.0 * id, 0.2, 0.0);
+  }
+  const auto results = runBatch(gl, FlatSurface(0.25), batch);
+  const Expected<gpu::GlHydrostaticsStatistics> stats = gpu::lastHydrostaticsStatistics(gl);
+  REQUIRE(stats.ok());
+  CHECK(stats->runs == 2);
+  // And every box answers the closed form (test "a box at rest"): V = 2 x 1.5 x 0.55.
+  for (const HydrostaticsResult& r : results) CHECK(relative(r.submergedVolume, 2.0 * 1.5 * 0.55) < 1e-6);
 }
 
 TEST_CASE("every backend: a deforming body re-evaluated from its bake", "[backend]") {

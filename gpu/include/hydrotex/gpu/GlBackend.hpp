@@ -61,6 +61,7 @@ struct GlHydrostaticsStatistics {
   std::size_t crossingChunks = 0;   ///< crossing it: texel by texel
   std::size_t texelsRead = 0;       ///< texels of the crossing chunks
   double bytesRead = 0.0;           ///< chunk headers and poses, moments and texels read (bytes)
+  std::size_t runs = 0;             ///< storage runs dispatched (two dispatches each: classification, texels)
 };
 
 /// The statistics of `backend`'s last hydrostatics call (reads its counters back; not for the
