@@ -334,8 +334,9 @@ int runBackend(int argc, char** argv) {
               double(counters.skippedOutOfLiquid) / steps, double(counters.skippedAsleep) / steps);
   std::printf("covered texels per body %.0f, %.0f bytes a step through the backend\n", texelsPerBody, bytes);
   // Identical crates share one model (issue 19): registering them all, and the memory they hold.
-  // The first run's registration also opens a GPU backend (and compiles its shaders, once per
-  // machine where the driver caches them); the median is the later runs'.
+  // Each run's registration opens a GPU backend too; the first on a machine also has the driver
+  // compile the shaders into its cache (about 1.5 s on an H100), which a median of 3 runs or more
+  // leaves out.
   std::printf("registering the %d identical bodies: %.1f ms (%.3f ms a body; goal 1000 under 500 ms), resident %.0f MB "
               "after registration and %.0f MB after the first steps, first run (goal 1000 under 100 MB)\n",
               bodies, median(registers), median(registers) / bodies, residentMb, steppedMb);

@@ -103,7 +103,7 @@ struct TimingSettings {
 /// 2026-11): exact 0.22 / 38 us (box), 1.5 / 34 (320-face hull), 3.0 / 33 (1,280-face
 /// icosphere), 13 / 144 (Wigley hull, 4,222), 12 / 65 (17,160-face sphere), 16-19 / 90
 /// (20,480-face icosphere), 21 / 98 (32,256), 33 / 119 (65,024); the hierarchy 7-11 / 22-38 us at
-/// 64^2, 14-19 / 40-52 at 128^2, 26-36 / 48-92 at 256^2 (the Wigley hull 80 / 252); the brute
+/// 64^2, 13-19 / 27-52 at 128^2, 26-36 / 48-92 at 256^2 (the Wigley hull 80 / 252); the brute
 /// force on the 1,280-face icosphere 31 / 339, 93 / 1,101, 298 / 3,689 us at 64^2, 128^2, 256^2.
 /// A ranking, not a prediction of one machine's time.
 double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves = false);
