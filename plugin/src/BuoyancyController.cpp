@@ -15,6 +15,7 @@
 #include "BodyThreads.hpp"
 #include "BulletEigen.hpp"
 #include "FloatingBody.hpp"
+#include "MeshInterning.hpp"
 #include "MethodChoice.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/mesh/ImageMap.hpp"
@@ -130,7 +131,8 @@ BuoyancyController::BuoyancyController(btDynamicsWorld& world, LiquidSettings li
       liquid_(std::move(liquid)),
       settings_(settings),
       threads_(std::make_unique<BodyThreads>(std::max(settings.threads, 0))),
-      backend_(settings.backend) {
+      backend_(settings.backend),
+      meshes_(std::make_unique<InternedMeshes>()) {
   BodyThreads* threads = threads_.get();
   parallelFor_ = [threads](std::size_t count, const std::function<void(std::size_t)>& work) {
     threads->forEach(count, work);
@@ -193,32 +195,33 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     sphereRadius = double(static_cast<const btSphereShape*>(body->getCollisionShape())->getRadius());
   }
   if (settings.mesh) {
-    floating->mesh = settings.mesh;
+    floating->mesh = settings.mesh;  // the user's, by identity: a copy of it is a mesh of its own
   } else if (settings.meshPath.empty()) {
-    // No mesh given: the body's own collision shape, in its frame (ShapeMesh.hpp).
+    // No mesh given: the body's own collision shape, in its frame (ShapeMesh.hpp); interned, so
+    // that bodies of one shape, or of shapes alike, share one mesh and hence one model.
     Expected<Mesh> fromShape = meshFromCollisionShape(*body->getCollisionShape(), settings.shape);
     if (!fromShape) return Error{"shape: " + fromShape.error().message};
-    floating->mesh = std::make_shared<const Mesh>(std::move(fromShape).value());
+    floating->mesh = meshes_->intern(std::make_shared<const Mesh>(std::move(fromShape).value()));
   } else {
     RepairReport repairs;
     Expected<Mesh> loaded = loadMesh(settings.meshPath, settings.load, &repairs);
     if (!loaded) return loaded.error();
     if (Status repaired = repairs.requireRepaired(loaded->sourceName); !repaired) return repaired.error();
-    floating->mesh = std::make_shared<const Mesh>(std::move(loaded).value());
+    floating->mesh = meshes_->intern(std::make_shared<const Mesh>(std::move(loaded).value()));
   }
   const Mesh& mesh = *floating->mesh;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
   const HydrostaticsMethod method = floating->report.method =
-      sphereRadius ? HydrostaticsMethod::Polyhedral : resolveMethod(settings, mesh);  // Auto resolved
+      sphereRadius ? HydrostaticsMethod::Polyhedral : resolveMethod(settings, floating->mesh);  // Auto resolved
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool exactPath = method == HydrostaticsMethod::Polyhedral &&
                          (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
-  const bool shareable = settings.mesh != nullptr && !wantsMassModel && !settings.effects.has(Effect::Wetting);
+  const bool shareable = !wantsMassModel && !settings.effects.has(Effect::Wetting);
   const int path = texturePath ? 1 : exactPath ? 2 : 0;
-  const ModelKey key{settings.mesh.get(), settings.resolution, path, settings.effects.has(Effect::Drag),
-                     settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction};
+  const ModelKey key{floating->mesh.get(), settings.resolution, path, sphereRadius.has_value(),
+                     settings.effects.has(Effect::Drag), settings.dragPatchNormalCosine, settings.dragPatchRadiusFraction};
   std::shared_ptr<const SharedBodyModel> shared;
   if (shareable) {
     auto found = models_.find(key);
@@ -470,7 +473,7 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   registered.report.sharesModel = shared != nullptr;
   if (shareable && !shared) {
     auto model = std::make_shared<SharedBodyModel>();
-    model->mesh = settings.mesh;
+    model->mesh = registered.mesh;
     model->unitDensity = *unitDensity;
     model->backendBody = registered.backendBody;
     model->backendTexels = registered.backendTexels;
@@ -485,21 +488,19 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   return Ok{};
 }
 
-HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh) {
+HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings& settings,
+                                                     const std::shared_ptr<const Mesh>& mesh) {
   if (settings.method != HydrostaticsMethod::Auto) return settings.method;
-  if (settings.mesh == nullptr) {
-    ++statistics_.autoMethodChoices;
-    return resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
-  }
-  // The choice depends only on the key's parts: a crate of a kind is measured once.
-  const AutoKey key{settings.mesh.get(), settings.resolution, settings.autoMethodError,
+  // The choice depends only on the key's parts: a crate of a kind is measured once (a mesh made
+  // from a shape or a file is interned, so bodies of shapes alike count as one kind).
+  const AutoKey key{mesh.get(), settings.resolution, settings.autoMethodError,
                     settings.effects.has(Effect::Deformation), liquid_.surface.get()};
   auto found = autoChoices_.find(key);
   // Not resolved again: taken from the first body of the mesh (and not counted).
-  if (found != autoChoices_.end() && found->second.mesh.lock() == settings.mesh) return found->second.method;
+  if (found != autoChoices_.end() && found->second.mesh.lock() == mesh) return found->second.method;
   ++statistics_.autoMethodChoices;
-  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
-  autoChoices_[key] = AutoChoice{settings.mesh, method};
+  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, *mesh, *liquid_.surface);
+  autoChoices_[key] = AutoChoice{mesh, method};
   return method;
 }
 

@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "PluginTestWorld.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/mesh/MeshIO.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/bullet/ShapeMesh.hpp"
@@ -419,4 +421,69 @@ TEST_CASE("bad `shape` keys are refused with one line naming the key and value",
   CHECK(error(R"({"type": "sphere", "radius": 1, "height": 2})") == "bad.json: bodies[0].shape.height: unknown key for a sphere");
   CHECK(error(R"({"type": "cylinder", "radius": 1})") == "bad.json: bodies[0].shape.height: missing (m)");
   CHECK(error(R"("box")").find("bodies[0].shape: expected an object") != std::string::npos);
+}
+
+TEST_CASE("bodies of one shape, of shapes alike, or of one mesh file share one model", "[shape][model]") {
+  const auto method = GENERATE(HydrostaticsMethod::Polyhedral, HydrostaticsMethod::Texture, HydrostaticsMethod::Auto);
+  CAPTURE(int(method));
+  TestWorld world;
+  BuoyancyController& controller = world.controller();
+  // Five 1 x 0.5 x 1 m boxes: two of one btBoxShape, one of another btBoxShape of the same extents,
+  // one of a mesh file (the same box, saved), one more of that file; a 1 x 0.6 x 1 m box; two
+  // spheres of their own btSphereShapes of one radius.
+  btBoxShape shared(btVector3(0.5f, 0.25f, 0.5f)), alike(btVector3(0.5f, 0.25f, 0.5f)), taller(btVector3(0.5f, 0.3f, 0.5f));
+  btSphereShape ball(0.4f), sameBall(0.4f);
+  const std::string path = (std::filesystem::temp_directory_path() / "hydrotex_test_interned_box.obj").string();
+  REQUIRE(saveMesh(primitives::box({1.0, 0.5, 1.0}), path));
+  struct Made {
+    btCollisionShape* shape;
+    bool fromFile;
+  };
+  const Made made[] = {{&shared, false}, {&shared, false}, {&alike, false}, {&shared, true},
+                       {&shared, true},  {&taller, false}, {&ball, false},  {&sameBall, false}};
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  FloatingBodySettings settings = solid(500.0, {Effect::Buoyancy, Effect::Drag}, method);
+  controller.resetStatistics();
+  for (std::size_t i = 0; i < std::size(made); ++i) {
+    auto body = std::make_unique<btRigidBody>(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, made[i].shape));
+    body->setWorldTransform(btTransform(btQuaternion(btVector3(1, 0, 0), btScalar(0.1)), btVector3(btScalar(3 * i), 0.1f, 0)));
+    FloatingBodySettings own = settings;
+    if (made[i].fromFile) own.meshPath = path;
+    const Status added = controller.addBody(body.get(), own);
+    INFO((added ? std::string("ok") : added.error().message));
+    REQUIRE(added);
+    world.world().addRigidBody(body.get());
+    bodies.push_back(std::move(body));
+  }
+  std::filesystem::remove(path);
+  auto shares = [&](std::size_t i) { return controller.report(bodies[i].get())->sharesModel; };
+  CHECK_FALSE(shares(0));
+  CHECK(shares(1));        // the same btBoxShape
+  CHECK(shares(2));        // another btBoxShape of the same extents: the same mesh to the bit
+  CHECK_FALSE(shares(3));  // the file's mesh names the file: a mesh of its own kind ...
+  CHECK(shares(4));        // ... which the second body of the file shares
+  CHECK_FALSE(shares(5));  // other extents
+  CHECK_FALSE(shares(6));
+  CHECK(shares(7));        // a sphere of the same radius (closed forms in flat water unless on texels)
+  for (std::size_t i : {1, 2, 4, 7}) CHECK(controller.report(bodies[i].get())->effectMemoryBytes == 0);
+  // Auto measures a kind once: the box, the file's box, the taller box and the sphere (a true
+  // sphere in flat water takes its closed forms without asking Auto: 3 choices then).
+  if (method == HydrostaticsMethod::Auto) CHECK(controller.statistics().autoMethodChoices == 3);
+
+  // Sharing changes no number: the bodies of one kind, released alike, move alike (within the
+  // rounding of their different x, as in "bodies of one mesh and the same settings share one
+  // model": 1e-15 m in double-precision Bullet, equal in float).
+  for (int i = 0; i < 60; ++i) world.step(1.0 / 60.0);
+  const double rounding = sizeof(btScalar) == sizeof(double) ? 1e-14 : 0.0;
+  auto height = [&](std::size_t i) { return double(bodies[i]->getCenterOfMassPosition().y()); };
+  for (std::size_t i : {1, 2}) CHECK(std::abs(height(i) - height(0)) <= rounding);
+  CHECK(std::abs(height(4) - height(3)) <= rounding);
+  CHECK(std::abs(height(3) - height(0)) <= 1e-6);  // the file's box is the shape's box, its triangles in another order
+  CHECK(std::abs(height(7) - height(6)) <= rounding);
+  CHECK(std::abs(height(5) - height(0)) > 1e-3);  // the taller box floats otherwise: the check can fail
+  CHECK(controller.statistics().failedQueries == 0);
+  for (auto& body : bodies) {
+    controller.removeBody(body.get());
+    world.world().removeRigidBody(body.get());
+  }
 }

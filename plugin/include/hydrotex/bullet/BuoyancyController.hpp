@@ -127,6 +127,7 @@ struct FloatingBodyReport {
 };
 
 class BodyThreads;
+class InternedMeshes;
 struct FloatingBody;
 struct SharedBodyModel;
 
@@ -242,7 +243,7 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
-  HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const Mesh& mesh);
+  HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const std::shared_ptr<const Mesh>& mesh);
   void changeBody(FloatingBody& floating, MassModelTask& massTask, double dt);
   void prepareMass(FloatingBody& floating, MassModelTask& massTask) const;
   void applyMass(FloatingBody& floating, const Expected<MassProperties>& properties);
@@ -272,10 +273,12 @@ class BuoyancyController : public btActionInterface {
   std::vector<std::optional<Expected<MassProperties>>> massResults_;  ///< ... and their new mass properties
   std::vector<RigidBodyTask> tasks_;           ///< this step's question per body (readBody), registration order
   std::vector<RigidBodyTaskResult> results_;   ///< ... and the answers (writeBody)
-  /// What identifies a shareable model: the mesh (by identity), resolution, the hydrostatics path
-  /// it holds (0 none, 1 texture, 2 exact), drag and its patch settings.
-  using ModelKey = std::tuple<const Mesh*, int, int, bool, double, double>;
+  /// What identifies a shareable model: the mesh (by identity; the meshes the controller makes
+  /// from shapes and files are interned, meshes_), resolution, the hydrostatics path it holds (0
+  /// none, 1 texture, 2 exact), a true sphere's closed forms, drag and its patch settings.
+  using ModelKey = std::tuple<const Mesh*, int, int, bool, bool, double, double>;
   std::map<ModelKey, std::weak_ptr<SharedBodyModel>> models_;  ///< models in use (addBody)
+  std::unique_ptr<InternedMeshes> meshes_;                     ///< the meshes made from shapes and files, by content
   /// HydrostaticsMethod::Auto's choice for a mesh (by identity, kept alive-checked), resolution,
   /// target, deformation and liquid surface: bodies of one mesh are measured once.
   using AutoKey = std::tuple<const Mesh*, int, double, bool, const LiquidSurface*>;
