@@ -17,6 +17,7 @@
 #include "FloatingBody.hpp"
 #include "MeshInterning.hpp"
 #include "MethodChoice.hpp"
+#include "ShapeKey.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/mesh/ImageMap.hpp"
 #include "hydrotex/mesh/MeshIO.hpp"
@@ -198,10 +199,16 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
     floating->mesh = settings.mesh;  // the user's, by identity: a copy of it is a mesh of its own
   } else if (settings.meshPath.empty()) {
     // No mesh given: the body's own collision shape, in its frame (ShapeMesh.hpp); interned, so
-    // that bodies of one shape, or of shapes alike, share one mesh and hence one model.
-    Expected<Mesh> fromShape = meshFromCollisionShape(*body->getCollisionShape(), settings.shape);
-    if (!fromShape) return Error{"shape: " + fromShape.error().message};
-    floating->mesh = meshes_->intern(std::make_shared<const Mesh>(std::move(fromShape).value()));
+    // that bodies of one shape, or of shapes alike, share one mesh and hence one model. A
+    // primitive of a kind seen before is not tessellated again.
+    const std::optional<std::string> primitive = primitiveShapeKey(*body->getCollisionShape(), settings.shape);
+    floating->mesh = primitive ? meshes_->findShape(*primitive) : nullptr;
+    if (!floating->mesh) {
+      Expected<Mesh> fromShape = meshFromCollisionShape(*body->getCollisionShape(), settings.shape);
+      if (!fromShape) return Error{"shape: " + fromShape.error().message};
+      floating->mesh = meshes_->intern(std::make_shared<const Mesh>(std::move(fromShape).value()));
+      if (primitive) meshes_->rememberShape(*primitive, floating->mesh);
+    }
   } else {
     RepairReport repairs;
     Expected<Mesh> loaded = loadMesh(settings.meshPath, settings.load, &repairs);

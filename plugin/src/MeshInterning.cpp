@@ -50,4 +50,14 @@ std::shared_ptr<const Mesh> InternedMeshes::intern(std::shared_ptr<const Mesh> m
   return mesh;
 }
 
+std::shared_ptr<const Mesh> InternedMeshes::findShape(const std::string& key) const {
+  const auto found = byShape_.find(key);
+  return found != byShape_.end() ? found->second.lock() : nullptr;
+}
+
+void InternedMeshes::rememberShape(const std::string& key, const std::shared_ptr<const Mesh>& mesh) {
+  std::erase_if(byShape_, [](const auto& entry) { return entry.second.expired(); });
+  byShape_[key] = mesh;
+}
+
 }  // namespace hydrotex::bullet

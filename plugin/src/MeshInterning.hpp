@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -30,8 +31,14 @@ class InternedMeshes {
   /// O(size of the mesh) for the hash and, on a hit, the comparison.
   std::shared_ptr<const Mesh> intern(std::shared_ptr<const Mesh> mesh);
 
+  /// The interned mesh made from a primitive shape of this key (primitiveShapeKey), or null.
+  std::shared_ptr<const Mesh> findShape(const std::string& key) const;
+  /// Remembers that a primitive shape of this key gave `mesh` (interned), for findShape().
+  void rememberShape(const std::string& key, const std::shared_ptr<const Mesh>& mesh);
+
  private:
   std::unordered_map<std::size_t, std::vector<std::weak_ptr<const Mesh>>> byHash_;
+  std::unordered_map<std::string, std::weak_ptr<const Mesh>> byShape_;
 };
 
 }  // namespace hydrotex::bullet

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "BulletEigen.hpp"
+#include "ShapeKey.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 
@@ -462,6 +463,43 @@ Status ShapeTessellation::validate() const {
     return Error{"maxRelativeVolumeError: " + std::to_string(maxRelativeVolumeError) + " is outside 1e-5..0.1"};
   }
   return Ok{};
+}
+
+std::optional<std::string> primitiveShapeKey(const btCollisionShape& shape, const ShapeTessellation& tessellation) {
+  // The values shapeMesh's cases read (keep the two together): a change there must change this.
+  double values[4] = {0.0, 0.0, 0.0, 0.0};
+  switch (shape.getShapeType()) {
+    case BOX_SHAPE_PROXYTYPE: {
+      const btVector3 half = static_cast<const btBoxShape&>(shape).getHalfExtentsWithMargin();
+      values[0] = half.x(), values[1] = half.y(), values[2] = half.z();
+      break;
+    }
+    case SPHERE_SHAPE_PROXYTYPE:
+      values[0] = static_cast<const btSphereShape&>(shape).getRadius();
+      break;
+    case CAPSULE_SHAPE_PROXYTYPE: {
+      const auto& capsule = static_cast<const btCapsuleShape&>(shape);
+      values[0] = capsule.getRadius(), values[1] = capsule.getHalfHeight(), values[2] = capsule.getUpAxis();
+      break;
+    }
+    case CYLINDER_SHAPE_PROXYTYPE: {
+      const auto& cylinder = static_cast<const btCylinderShape&>(shape);
+      const int axis = cylinder.getUpAxis();
+      values[0] = cylinder.getRadius(), values[1] = cylinder.getHalfExtentsWithMargin()[axis], values[2] = axis;
+      break;
+    }
+    case CONE_SHAPE_PROXYTYPE: {
+      const auto& cone = static_cast<const btConeShape&>(shape);
+      values[0] = cone.getRadius(), values[1] = cone.getHeight(), values[2] = cone.getConeUpIndex();
+      break;
+    }
+    default:
+      return std::nullopt;
+  }
+  values[3] = tessellation.maxRelativeVolumeError;
+  std::string key = std::to_string(shape.getShapeType()) + ":";
+  key.append(reinterpret_cast<const char*>(values), sizeof(values));
+  return key;
 }
 
 Expected<Mesh> meshFromCollisionShape(const btCollisionShape& shape, const ShapeTessellation& tessellation) {
