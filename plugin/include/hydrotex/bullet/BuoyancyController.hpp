@@ -90,7 +90,7 @@ struct ControllerStatistics {
   std::uint64_t permeableTexelsVisited = 0; ///< permeable texels those steps evaluated
   std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
   std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
-  std::uint64_t autoMethodChoices = 0;    ///< HydrostaticsMethod::Auto resolved at addBody (bodies given one Mesh share one)
+  std::uint64_t autoMethodChoices = 0;    ///< HydrostaticsMethod::Auto resolved at addBody (bodies of one mesh share one: one Mesh given, or shapes and files alike)
   std::uint64_t massBatches = 0;          ///< mass-pass batches asked of the backend (MassModelsStep; results read back once each)
   std::uint64_t massBatchBodies = 0;      ///< bodies whose texel mass pass those batches ran
 };
@@ -117,7 +117,7 @@ struct FloatingBodyReport {
   btVector3 dragTorque{0, 0, 0};     ///< last drag torque about the centre of mass (N m, world)
   double addedMass = 0.0;            ///< last added mass (kg)
   std::size_t effectMemoryBytes = 0; ///< heap held for the listed effects (0 for buoyancy-only bodies' drag; 0 for a body that shares its model)
-  bool sharesModel = false;          ///< it reuses the bake, texels and drag patches of an earlier body of its mesh and settings
+  bool sharesModel = false;          ///< it reuses the bake, texels and drag patches of an earlier body of its mesh (the same Mesh pointer, or a shape or file alike) and settings
   double liquidVolume = 0.0;         ///< with Effect::Flooding: liquid held in the liquid graph (m^3)
   bool atRest = false;               ///< at rest afloat at the last step
   double liquidHeld = 0.0;           ///< with Effect::Wetting: liquid held in the surface layer (m^3)
@@ -152,6 +152,9 @@ class BuoyancyController : public btActionInterface {
   /// follow it (FloatingBodySettings::deformedCollision).
   /// With neither settings.mesh nor settings.meshPath, the mesh is the body's own collision shape
   /// (meshFromCollisionShape, ShapeMesh.hpp; an unsupported shape is refused with its type named).
+  /// Meshes made from shapes or files are interned by content: bodies of equal ones share a model
+  /// (report sharesModel) as bodies given one Mesh pointer do; a primitive shape (box, sphere,
+  /// capsule, cylinder, cone) of the same dimensions and tessellation is not meshed again.
   Status addBody(btRigidBody* body, const FloatingBodySettings& settings);
 
   /// Registers every dynamic rigid body already in the world, in the world's order, with
