@@ -149,7 +149,7 @@ void main() {
   if (lane == 0u) {
     float total[32];
     for (int k = 0; k < 32; ++k) total[k] = k < 31 ? reduction[k][0] : 0.0;
-    moments[chunkIndex].value = total;
+    moments[chunks[chunkIndex].table].value = total;
     chunks[chunkIndex].centerX = center.x;
     chunks[chunkIndex].centerY = center.y;
     chunks[chunkIndex].centerZ = center.z;

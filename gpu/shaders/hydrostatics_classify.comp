@@ -55,7 +55,7 @@ void main() {
   // every sum needed is S0 = sum A'_y, S_i = sum x'_i A'_y = X_i S0 + m_i and
   // S_ij = sum x'_i x'_j A'_y = X_i X_j S0 + X_i m_j + X_j m_i + N_ij, where m_i = r_i . (PA r1)
   // and N_ij = r_i . (P1 r_j), P1 = sum_k r1_k PPA_k (the symmetric q q^T A_k sums).
-  float m[32] = moments[chunkIndex].value;
+  float m[32] = moments[chunk.table].value;
   float s0 = dot(r1, vec3(m[1], m[2], m[3]));
   vec3 paR1 = vec3(dot(vec3(m[4], m[5], m[6]), r1), dot(vec3(m[7], m[8], m[9]), r1), dot(vec3(m[10], m[11], m[12]), r1));
   // Pairs xx xy xz yy yz zz at 13 + 3 pair + k.

@@ -41,6 +41,8 @@ struct Chunk {
   float halfZ;
   uint correctionBegin;
   uint correctionCount;
+  // Its entry in ChunkMoments (hydrostatics) or BlockGeometry (mass): its own or its model's.
+  uint table;
 };
 
 // The moment correction of a texel of several pieces (core's SurfaceTextures::momentCorrection):

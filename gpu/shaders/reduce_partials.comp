@@ -8,6 +8,7 @@ layout(std430, binding = 0) readonly buffer Partials { Partial partials[]; };
 layout(std430, binding = 1) readonly buffer Ranges { BodyRange ranges[]; };
 layout(std430, binding = 2) readonly buffer Blocks { BlockGeometry blocks[]; };
 layout(std430, binding = 3) writeonly buffer Results { BodySums results[]; };
+layout(std430, binding = 4) readonly buffer Chunks { Chunk chunks[]; };  // mass chunks (massMode): their BlockGeometry entry
 
 uniform uint bodyBase;   // first body of this dispatch
 uniform uint bodyCount;  // bodies in this dispatch
@@ -32,7 +33,7 @@ void main() {
       for (int k = 0; k < 11; ++k) s[k] += double(partials[partialBase + c].value[k]);
       continue;
     }
-    BlockGeometry block = blocks[c];
+    BlockGeometry block = blocks[chunks[c].table];
     double meanDensity = double(range.uniformDensity);
     if (range.mode == 1u)
       meanDensity = block.absVolume > 0.0LF ? double(partials[c].value[10]) / block.absVolume : 0.0LF;

@@ -261,6 +261,7 @@ class GlBackend final : public ComputeBackend {
       layout::Chunk chunk{};
       chunk.body = id;
       chunk.count = chunkCount;
+      chunk.table = static_cast<std::uint32_t>(hydroMoments_.size());
       chunk.begin = hydroStorage_.place(static_cast<std::uint32_t>(hydroChunks_.size()), chunk.count);
       // The chunk's texels of several pieces: their corrections, in one range (values: uploadSurface).
       chunk.correctionBegin = static_cast<std::uint32_t>(hydroCorrections_.size());
@@ -281,6 +282,7 @@ class GlBackend final : public ComputeBackend {
       chunk.body = id;
       chunk.count = static_cast<std::uint32_t>(std::min<std::size_t>(kMassChunkTexels, count - first));
       chunk.begin = massStorage_.place(static_cast<std::uint32_t>(massChunks_.size()), chunk.count);
+      chunk.table = static_cast<std::uint32_t>(blocks_.size());
       massChunks_.push_back(chunk);
       blocks_.push_back(layout::BlockGeometry{});
     }
@@ -292,9 +294,8 @@ class GlBackend final : public ComputeBackend {
   }
 
   // The instance gets chunk records of its own (its body index, its poses and sums) that read the
-  // model's texels, corrections and bounds where they lie. The host keeps the chunk moments and
-  // block sums (192 bytes a chunk) once, the model's; ensureTables writes them at each instance's
-  // chunks on the GPU, where the passes index everything by chunk.
+  // model's texels, corrections, bounds, chunk moments and block sums where they lie (Chunk::table):
+  // what an instance adds is its chunk records and partial slots.
   Expected<BackendBodyId> addInstance(BackendBodyId of) override {
     if (of >= bodies_.size()) return Error{"gpu backend: unknown body " + std::to_string(of)};
     if (bodies_[of].deformation)
@@ -535,6 +536,10 @@ class GlBackend final : public ComputeBackend {
     if (queries.empty()) return Ok{};
     if (Status s = context_->makeCurrent(); !s) return s;
     ensureTables();
+    if (*kind != SurfaceKind::Flat && !partialHeads_) {  // the first surface that is not flat
+      partialHeads_ = true;
+      tables_.partials = GlBuffer(partialCount() * sizeof(layout::Partial));
+    }
     for (const BackendHydrostaticsQuery& q : queries)
       if (bodies_[q.body].momentsPending) readMoments(bodies_[q.body]);
 
@@ -942,7 +947,7 @@ class GlBackend final : public ComputeBackend {
     body.shellArea -= body.lids.area;
     body.shellFirst -= body.lids.first;
     body.shellSecond -= body.lids.second;
-    tables_.blocks.write(body.massChunkBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.blockBegin,
+    tables_.blocks.write(body.blockBegin * sizeof(layout::BlockGeometry), blocks_.data() + body.blockBegin,
                          sums.size() * sizeof(layout::BlockGeometry));
     body.massPending = false;
   }
@@ -953,7 +958,7 @@ class GlBackend final : public ComputeBackend {
     const std::size_t count = body.hydroChunkEnd - body.hydroChunkBegin;
     std::vector<layout::ChunkMoments> moments(count);
     std::vector<layout::Chunk> chunks(count);
-    tables_.chunkMoments.read(body.hydroChunkBegin * sizeof(layout::ChunkMoments), moments.data(),
+    tables_.chunkMoments.read(body.momentBegin * sizeof(layout::ChunkMoments), moments.data(),
                               count * sizeof(layout::ChunkMoments));
     tables_.hydroChunks.read(body.hydroChunkBegin * sizeof(layout::Chunk), chunks.data(), count * sizeof(layout::Chunk));
     body.sumPA.setZero();
@@ -1257,30 +1262,10 @@ class GlBackend final : public ComputeBackend {
     tables_.massChunks = upload(massChunks_);
     tables_.hydroRanges = upload(hydroRanges_);
     tables_.massRanges = upload(massRanges_);
-    // Per chunk on the GPU, each body's from its source's (the model's, for an instance); bodies
-    // whose entries follow each other in both (every body without instances) in one write.
-    tables_.blocks = GlBuffer(massChunks_.size() * sizeof(layout::BlockGeometry));
-    tables_.chunkMoments = GlBuffer(hydroChunks_.size() * sizeof(layout::ChunkMoments));
-    auto expand = [&](GlBuffer& buffer, const auto& hostEntries, std::uint32_t Body::*chunkBegin,
-                      std::uint32_t Body::*chunkEnd, std::size_t Body::*entryBegin) {
-      const std::size_t bytes = sizeof(hostEntries[0]);
-      std::size_t chunk = 0, entry = 0, count = 0;  // the write being gathered
-      for (const Body& body : bodies_) {
-        const std::size_t from = bodies_[body.source].*entryBegin, size = body.*chunkEnd - body.*chunkBegin;
-        if (count > 0 && (body.*chunkBegin != chunk + count || from != entry + count)) {
-          buffer.write(chunk * bytes, hostEntries.data() + entry, count * bytes);
-          count = 0;
-        }
-        if (count == 0) {
-          chunk = body.*chunkBegin;
-          entry = from;
-        }
-        count += size;
-      }
-      if (count > 0) buffer.write(chunk * bytes, hostEntries.data() + entry, count * bytes);
-    };
-    expand(tables_.blocks, blocks_, &Body::massChunkBegin, &Body::massChunkEnd, &Body::blockBegin);
-    expand(tables_.chunkMoments, hydroMoments_, &Body::hydroChunkBegin, &Body::hydroChunkEnd, &Body::momentBegin);
+    // Per chunk of a body with texels of its own: an instance's chunks read their model's entries
+    // (Chunk::table).
+    tables_.blocks = upload(blocks_);
+    tables_.chunkMoments = upload(hydroMoments_);
     // Never an empty buffer (a body whose texels each lie on one triangle has no correction).
     if (hydroCorrections_.empty()) tables_.corrections = GlBuffer(sizeof(layout::TexelCorrection));
     else tables_.corrections = upload(hydroCorrections_);
@@ -1293,7 +1278,7 @@ class GlBackend final : public ComputeBackend {
     for (const Body& body : bodies_)
       if (body.gpuDeformed) runDeformation(body);
     tables_.poses = GlBuffer(bodies * sizeof(layout::BodyPose));
-    tables_.partials = GlBuffer((headBase() + hydroChunks_.size()) * sizeof(layout::Partial));
+    tables_.partials = GlBuffer(partialCount() * sizeof(layout::Partial));
     tables_.dryLevels = GlBuffer(bodies * sizeof(float));
     tables_.results = GlBuffer(bodies * sizeof(layout::BodySums));
     tables_.headResults = GlBuffer(bodies * sizeof(layout::BodySums));
@@ -1323,6 +1308,9 @@ class GlBackend final : public ComputeBackend {
 
   // Where the pressure-head partials start in tables_.partials (after every chunk's own partial).
   std::uint32_t headBase() const { return std::uint32_t(std::max(hydroChunks_.size(), massChunks_.size())); }
+  // Partials in tables_.partials: every chunk's, and the pressure heads' once a surface that is not
+  // flat asked for them (partialHeads_): flat water does not pay 48 bytes a hydro chunk for them.
+  std::size_t partialCount() const { return headBase() + (partialHeads_ ? hydroChunks_.size() : 0); }
 
   // The smallest range of bodies [low, high) holding every queried one.
   static std::pair<std::uint32_t, std::uint32_t> bodyWindow(std::span<const BackendHydrostaticsQuery> queries) {
@@ -1346,6 +1334,7 @@ class GlBackend final : public ComputeBackend {
       glUseProgram(programs_.reduce.id());
       (massMode ? tables_.massRanges : tables_.hydroRanges).bind(1);
       tables_.blocks.bind(2);
+      tables_.massChunks.bind(4);  // the mass chunks' block entries (Chunk::table)
       glUniform1ui(programs_.reduce.uniform("bodyBase"), low);
       glUniform1ui(programs_.reduce.uniform("bodyCount"), high - low);
       glUniform1i(programs_.reduce.uniform("massMode"), massMode ? 1 : 0);
@@ -1425,6 +1414,7 @@ class GlBackend final : public ComputeBackend {
   std::vector<layout::Partial> partials_;  // per chunk, with the final sum on the CPU only
   Tables tables_;
   bool tablesDirty_ = true;
+  bool partialHeads_ = false;  // tables_.partials holds the pressure-head region (partialCount)
   std::uint64_t batch_ = 0;
 };
 

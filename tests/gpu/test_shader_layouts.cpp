@@ -134,7 +134,8 @@ TEST_CASE("every shader storage struct matches its C++ mirror", "[layout]") {
               {HYDROTEX_MEMBER(Chunk, body), HYDROTEX_MEMBER(Chunk, begin), HYDROTEX_MEMBER(Chunk, count),
                HYDROTEX_MEMBER(Chunk, centerX), HYDROTEX_MEMBER(Chunk, centerY), HYDROTEX_MEMBER(Chunk, centerZ),
                HYDROTEX_MEMBER(Chunk, halfX), HYDROTEX_MEMBER(Chunk, halfY), HYDROTEX_MEMBER(Chunk, halfZ),
-               HYDROTEX_MEMBER(Chunk, correctionBegin), HYDROTEX_MEMBER(Chunk, correctionCount)});
+               HYDROTEX_MEMBER(Chunk, correctionBegin), HYDROTEX_MEMBER(Chunk, correctionCount),
+               HYDROTEX_MEMBER(Chunk, table)});
   using layout::TexelCorrection;
   checkLayout(shader, "TexelCorrection", sizeof(TexelCorrection),
               {HYDROTEX_MEMBER(TexelCorrection, texel), HYDROTEX_MEMBER(TexelCorrection, moment),

@@ -32,6 +32,10 @@ struct Chunk {
   float halfX, halfY, halfZ;          ///< bounds half extent (m, body frame), conservative
   std::uint32_t correctionBegin;      ///< its texels' first TexelCorrection (hydrostatics chunks)
   std::uint32_t correctionCount;      ///< its texels' TexelCorrections (0 for mass chunks)
+  /// Its entry in its pass's per-chunk table (hydrostatics: ChunkMoments; mass: BlockGeometry):
+  /// its own, or, for an instance (addInstance), its model's chunk's, so that the tables hold
+  /// each model once.
+  std::uint32_t table;
 };
 
 /// The moment correction of a texel of several pieces (SurfaceTextures::momentCorrection and
