@@ -506,7 +506,7 @@ HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings&
   // Not resolved again: taken from the first body of the mesh (and not counted).
   if (found != autoChoices_.end() && found->second.mesh.lock() == mesh) return found->second.method;
   ++statistics_.autoMethodChoices;
-  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, *mesh, *liquid_.surface);
+  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
   autoChoices_[key] = AutoChoice{mesh, method};
   return method;
 }

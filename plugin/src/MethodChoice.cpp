@@ -14,13 +14,15 @@
 #include <limits>
 
 #include "hydrotex/hydrostatics/Advisor.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 
 namespace hydrotex::bullet {
 
-HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& settings, const Mesh& mesh,
-                                             const LiquidSurface& surface) {
+HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& settings,
+                                             const std::shared_ptr<const Mesh>& meshPointer, const LiquidSurface& surface) {
   if (settings.method != HydrostaticsMethod::Auto) return settings.method;
+  const Mesh& mesh = *meshPointer;
   // Only the texture path follows a deforming mesh (its bake is re-evaluated from moved vertices).
   if (settings.effects.has(Effect::Deformation)) return HydrostaticsMethod::Texture;
   const double target = settings.autoMethodError;
@@ -36,9 +38,18 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
   // under Gerstner waves; a height grid leaves the exact path out by its error below); a medium
   // without a free surface as flat water (no surface to model).
   const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
-  const double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  // Under waves the exact path's work depends on its triangles' size against the waves (a 3 m
+  // log's sides take thousands of local models where a ship's small triangles take one each):
+  // priced from the work of queries at a standard pose, counted, not timed.
+  if (waves && surface.smoothness(0.0))
+    if (const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(meshPointer))
+      if (const Expected<double> priced = modeledExactMicroseconds(*prepared, surface)) exactCost = *priced;
+  // Under waves both prices grow with the waterline: the exact path's by its counted work, the
+  // texture path's by its tiles along the waterline (waterlineFactor).
   const double textureCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::TextureHierarchy,
-                                                         mesh.triangles.size(), settings.resolution, waves);
+                                                         mesh.triangles.size(), settings.resolution, waves,
+                                                         waves ? waterlineFactor(mesh) : 1.0);
   if (exactError <= target && exactCost <= textureCost) return HydrostaticsMethod::Polyhedral;  // nothing to measure
   // The texture path's error at the body's resolution, measured against the exact path in flat
   // water (under waves its texels see the surface's true height at their centres, a far finer

@@ -9,6 +9,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
 
 using namespace hydrotex;
@@ -244,4 +245,88 @@ TEST_CASE("modeled times: the same advice on every run, from the cost model's fi
   const Expected<Advice> strict = adviseHydrostatics(sphere, 1e-9, settings);
   REQUIRE(strict);
   CHECK(strict->best.method == HydrostaticsMethod::Exact);
+}
+
+TEST_CASE("modeled exact time under waves: the counted work of queries at a standard pose", "[advisor][model]") {
+  // modeledExactMicroseconds (Advisor.hpp) prices what wavePolyhedralHydrostatics counts
+  // (ExactWaveWork): deterministic, and counting does not change the answer.
+  const GerstnerWaves sea({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                           GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
+                          0.0, 1025.0);
+  const FlatSurface flat(0.0, 1025.0);
+  const auto prepare = [](const Mesh& mesh) {
+    Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(mesh));
+    REQUIRE(prepared.ok());
+    return std::move(*prepared);
+  };
+  const PreparedPolyhedron box = prepare(primitives::box({1.0, 0.5, 1.0}));
+  const PreparedPolyhedron log = prepare(primitives::cylinder(0.25, 3.0, 32));
+
+  HydrostaticsQuery query;
+  query.pose.translation = Eigen::Vector3d(0.3, 0.05, -0.2);
+  query.pose.rotation = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1.0, 0.3, 0.5).normalized()).toRotationMatrix();
+  query.time = 1.5;
+  ExactWaveWork work, again;
+  const Expected<HydrostaticsResult> counted = polyhedralHydrostatics(log, sea, query, &work);
+  const Expected<HydrostaticsResult> recounted = polyhedralHydrostatics(log, sea, query, &again);
+  const Expected<HydrostaticsResult> plain = polyhedralHydrostatics(log, sea, query);
+  REQUIRE(counted.ok());
+  REQUIRE(recounted.ok());
+  REQUIRE(plain.ok());
+  CHECK(counted->submergedVolume == plain->submergedVolume);
+  CHECK(counted->buoyancyForce == plain->buoyancyForce);
+  CHECK(work.nodes == again.nodes);
+  CHECK(work.models == again.models);
+  CHECK(work.pieces == again.pieces);
+  CHECK(work.clippedTriangles == again.clippedTriangles);
+  CHECK(work.jets == again.jets);
+  // The log's sides, 3 m slivers, take a model for each strip: far more than its 128 triangles.
+  CHECK(work.models > 500);
+  CHECK(work.pieces >= work.models / 2);
+  CHECK(work.surfaceHeights == 0);  // every piece found a model within the tolerance
+  CHECK(work.jets > 0);
+  // The per-unit costs.
+  CHECK(modeledExactMicroseconds(work) ==
+        Approx(0.05 * double(work.nodes) + 0.10 * double(work.models) + 0.045 * double(work.clippedTriangles) +
+               0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets)));
+
+  // Nothing is counted in flat water, nor for a body above every crest.
+  ExactWaveWork none{1, 1, 1, 1, 1, 1};
+  REQUIRE(polyhedralHydrostatics(log, flat, query, &none).ok());
+  CHECK(none.nodes + none.models + none.pieces + none.clippedTriangles + none.surfaceHeights + none.jets == 0);
+  HydrostaticsQuery high = query;
+  high.pose.translation.y() = 10.0;
+  ExactWaveWork dry;
+  REQUIRE(polyhedralHydrostatics(log, sea, high, &dry).ok());
+  CHECK(dry.models == 0);
+  CHECK(dry.pieces == 0);
+  CHECK(dry.clippedTriangles == 0);
+
+  // At the standard pose: the log priced several times a sqrt(T) model's figure, the box about it
+  // (the box's 12 triangles take tens of pieces, which the model's 30 us stood for); flat water
+  // keeps the model in sqrt(T).
+  const Expected<double> logCost = modeledExactMicroseconds(log, sea);
+  const Expected<double> boxCost = modeledExactMicroseconds(box, sea);
+  REQUIRE(logCost.ok());
+  REQUIRE(boxCost.ok());
+  CHECK(*logCost > 4.0 * modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 128, 0, true));
+  CHECK(*boxCost == Approx(modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 12, 0, true)).epsilon(0.5));
+  CHECK(*modeledExactMicroseconds(log, sea) == *logCost);
+  CHECK(*modeledExactMicroseconds(log, flat) == modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 128, 0, false));
+}
+
+TEST_CASE("waterline factor: the waterline's length against a sphere's for the same area", "[advisor][model]") {
+  // L / sqrt(pi A) with L cut upright at mid height (Advisor.hpp). A sphere: 2 pi r / sqrt(pi 4 pi
+  // r^2) = 1 (its tessellation a little under: clamped to 1). The 1 x 0.5 x 1 m box: L = 4 m,
+  // A = 4 m^2, 4 / sqrt(4 pi) = 1.128. A log of radius 0.25 m and length 3 m lying along z: L =
+  // 2 x 3 + 2 x 0.5 = 7 m, A = 2 pi 0.25 x 3 + 2 pi 0.25^2 = 5.105 m^2, 1.748 (its 32-gon's area
+  // and width 0.3 % under the circle's).
+  CHECK(waterlineFactor(primitives::uvSphere(0.5, 64, 32)) == Approx(1.0).epsilon(1e-3));
+  CHECK(waterlineFactor(primitives::box({1.0, 0.5, 1.0})) == Approx(4.0 / std::sqrt(4.0 * 3.141592653589793)).epsilon(1e-12));
+  CHECK(waterlineFactor(primitives::cylinder(0.25, 3.0, 32)) == Approx(1.748).epsilon(5e-3));
+  // It scales the tile hierarchy's term in R, and only that.
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 12, 256, true, 2.0) == Approx(10.0 + 0.3 * 512));
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 12, 256, false, 2.0) == Approx(2.0 + 0.12 * 512));
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 12, 256, true, 0.5) == Approx(86.8));
+  CHECK(modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 10000, 0, true, 2.0) == Approx(65.0));
 }

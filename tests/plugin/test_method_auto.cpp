@@ -13,6 +13,7 @@
 #include "hydrotex/bullet/Scene.hpp"
 #include "hydrotex/hydrostatics/Advisor.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 
 using namespace hydrotex;
 using namespace hydrotex::bullet;
@@ -70,10 +71,9 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
   // 0.16 of the volume. The prepared path the controller runs models the surface over its
   // triangles instead (test_polyhedral_hydrostatics_waves: within 4.4e-5 V of the per-texel
   // answer, this box under this sea 2.2e-5): beyond its flat-water exactness it has no error of
-  // its own to count. At 256^2 it is also the cheaper (modeled under waves 31.2 against 86.8 us;
-  // measured under bench_peers' sea 38 against 48): the exact path. At 64^2 the texture path is
-  // the cheaper (29.2 against 31.2 modeled, 26 against 38 measured) and takes the body when it
-  // meets the target.
+  // its own to count. At 256^2 it is also the cheaper (modeledExactMicroseconds of its counted
+  // work 28.7 against the texture path's modeled 86.8 us; measured under bench_peers' sea 28-38
+  // against 48): the exact path.
   const auto logWaves = std::make_shared<GerstnerWaves>(
       std::vector<GerstnerWave>{GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
                                 GerstnerWave{0.1, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5}},
@@ -93,14 +93,31 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
     for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
     CHECK(world.controller().statistics().failedQueries == 0);
   }
-  {
-    FloatingBodySettings coarse = settings;
-    coarse.resolution = 64;
-    coarse.autoMethodError = 1e-2;
+  // A 3 m log of 32 sides: each side two slivers 3 m long, which the prepared path cuts into
+  // strips a local model each (thousands a query). Priced by its counted work, 209 us a query
+  // under this sea (measured 267 at 100 poses, PolyhedralHydrostaticsWaves.cpp), it takes the
+  // texture path at 256^2 (modeled 144 us with its waterline factor, 1.75) and at 64^2 (43.6) when
+  // the target lets that resolution in; a model in sqrt(T) alone (34 us) had kept it on the exact
+  // path. In flat water the exact
+  // path stays (modeled 1.7 us against 9.7 at 64^2 and 32.7 at 256^2).
+  const Mesh log = primitives::cylinder(0.25, 3.0, 32);
+  const Expected<PreparedPolyhedron> preparedLog = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(log));
+  REQUIRE(preparedLog.ok());
+  const Expected<double> logCost = modeledExactMicroseconds(*preparedLog, *logWaves);
+  REQUIRE(logCost.ok());
+  CHECK(*logCost > 4.0 * modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, log.triangles.size(), 0, true));
+  for (const int resolution : {256, 64}) {
+    FloatingBodySettings logSettings = solid(500.0, {Effect::Buoyancy}, bullet::HydrostaticsMethod::Auto, resolution);
+    logSettings.autoMethodError = 1e-2;
     TestWorld world(logWaves);
-    btRigidBody* body = world.add(box, coarse, btVector3(0, 0, 0));
+    btRigidBody* body = world.add(log, logSettings, btVector3(0, 0, 0));
     REQUIRE(body != nullptr);
+    INFO("log at " << resolution << "^2");
     CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Texture);
+    TestWorld flat;
+    btRigidBody* calm = flat.add(log, logSettings, btVector3(0, 0, 0));
+    REQUIRE(calm != nullptr);
+    CHECK(flat.controller().report(calm)->method == bullet::HydrostaticsMethod::Polyhedral);
   }
   // A long low swell (100 m, 5 cm): the plain path's linearization within 1e-4 of the volume,
   // the interpolated heights' bound (kExactWaveHeightError x 1 m^2 / 0.5 m^3 = 6.7e-6) beside

@@ -10,6 +10,7 @@
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 
 namespace hydrotex {
 
@@ -139,17 +140,79 @@ Expected<MethodMeasurement> measureMethod(const HydrostaticsAnswer& answer, cons
   return measurement;
 }
 
-double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves) {
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves,
+                                   double waterlineFactor) {
   const double r = double(resolution), rootT = std::sqrt(double(triangles));
+  const double rows = r * std::max(1.0, waterlineFactor);  // tiles along the waterline
   switch (method) {
     case HydrostaticsMethod::Exact:
       return waves ? 30.0 + 0.35 * rootT : 0.2 + 0.13 * rootT;
     case HydrostaticsMethod::TextureHierarchy:
-      return waves ? 10.0 + 0.3 * r : 2.0 + 0.12 * r;
+      return waves ? 10.0 + 0.3 * rows : 2.0 + 0.12 * rows;
     case HydrostaticsMethod::TextureBruteForce:
       return waves ? 100.0 + 0.055 * r * r : 10.0 + 0.0045 * r * r;
   }
   return 0.0;
+}
+
+double waterlineFactor(const Mesh& mesh) {
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
+  for (const Eigen::Vector3d& p : mesh.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  const double level = 0.5 * (lower.y() + upper.y());
+  const auto count = mesh.positions.size();
+  double length = 0.0, area = 0.0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    if (std::size_t(t[0]) >= count || std::size_t(t[1]) >= count || std::size_t(t[2]) >= count) continue;
+    const Eigen::Vector3d* p[3] = {&mesh.positions[std::size_t(t[0])], &mesh.positions[std::size_t(t[1])],
+                                   &mesh.positions[std::size_t(t[2])]};
+    area += 0.5 * (*p[1] - *p[0]).cross(*p[2] - *p[0]).norm();
+    // Where the plane y = level cuts the triangle's edges: a segment of the waterline.
+    Eigen::Vector3d cut[3];
+    int cuts = 0;
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d& a = *p[e];
+      const Eigen::Vector3d& b = *p[(e + 1) % 3];
+      if ((a.y() < level) != (b.y() < level) && cuts < 2) cut[cuts++] = a + (level - a.y()) / (b.y() - a.y()) * (b - a);
+    }
+    if (cuts == 2) length += (cut[1] - cut[0]).norm();
+  }
+  if (!(area > 0.0) || !std::isfinite(length)) return 1.0;
+  return std::max(1.0, length / std::sqrt(3.141592653589793 * area));
+}
+
+double modeledExactMicroseconds(const ExactWaveWork& work) {
+  return 0.05 * double(work.nodes) + 0.10 * double(work.models) + 0.045 * double(work.clippedTriangles) +
+         0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets);
+}
+
+Expected<double> modeledExactMicroseconds(const PreparedPolyhedron& body, const LiquidSurface& surface) {
+  const Mesh& mesh = body.mesh();
+  const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
+  const std::optional<SurfaceSmoothness> smooth = waves ? surface.smoothness(0.0) : std::nullopt;
+  if (!smooth) return modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
+  for (const Eigen::Vector3d& p : mesh.positions) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  const std::pair<double, double> heights = surface.heightRange(0.0);
+  const double level = std::isfinite(heights.first + heights.second) ? 0.5 * (heights.first + heights.second) : 0.0;
+  const Eigen::Vector3d center = 0.5 * (lower + upper);
+  double total = 0.0;
+  constexpr int kQueries = 4;
+  for (int k = 0; k < kQueries; ++k) {
+    HydrostaticsQuery query;
+    query.pose = Pose{Eigen::Matrix3d::Identity(), Eigen::Vector3d(-center.x(), level - center.y(), -center.z())};
+    query.time = double(k);
+    ExactWaveWork work;
+    const Expected<HydrostaticsResult> answer = polyhedralHydrostatics(body, surface, query, &work);
+    if (!answer) return answer.error();
+    total += modeledExactMicroseconds(work);
+  }
+  return total / kQueries;
 }
 
 std::size_t textureHydrostaticsBytes(const TextureHydrostatics& texture) {

@@ -214,6 +214,8 @@ class LocalSurfaceModels {
   double tolerance() const { return tolerance_; }
   /// The surface's smoothness bounds.
   const SurfaceSmoothness& smoothness() const { return smooth_; }
+  /// Models interpolated so far (ExactWaveWork::models).
+  std::size_t interpolations() const { return interpolations_; }
 
   /// The bound (m) of a model over a footprint of radius `rho` (m).
   double boundOver(double rho) const {
@@ -290,6 +292,7 @@ class LocalSurfaceModels {
   // The model's jet at the footprint's centre (its bound already set); false when a sample is
   // missing.
   bool interpolateAt(const ModelFootprint& f, SurfaceModel& model) {
+    ++interpolations_;
     if (!grid_.interpolate(f.x, f.z, model.jet)) return false;
     model.centerX = f.x;
     model.centerZ = f.z;
@@ -317,6 +320,7 @@ class LocalSurfaceModels {
   Eigen::Vector3d offset_, xRow_, yRow_, zRow_;
   TextureHydrostatics::Moments under_;  // wholly submerged parts: the flat part of their sums
   WavePart wave_;                       // and the wave part
+  std::size_t interpolations_ = 0;
 };
 
 }  // namespace hydrotex::detail

@@ -19,6 +19,7 @@
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::detail {
@@ -123,10 +124,11 @@ Expected<HydrostaticsResult> flatPolyhedralHydrostatics(const Mesh& mesh, const 
 /// smoothness bounds (Gerstner waves): its triangle nodes against local surface models
 /// (PolyhedralHydrostaticsWaves.cpp), the query already validated. Empty when the surface offers
 /// no bounds (height grids: the caller takes the plain path). Errors: a surface height that is
-/// not finite, a non-finite result.
+/// not finite, a non-finite result. `work`, when given, receives what it did.
 std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
                                                                        const PreparedTriangles& prepared,
                                                                        const LiquidSurface& surface,
-                                                                       const HydrostaticsQuery& query);
+                                                                       const HydrostaticsQuery& query,
+                                                                       ExactWaveWork* work = nullptr);
 
 }  // namespace hydrotex::detail

@@ -168,7 +168,8 @@ constexpr double kStripToleranceShare = 0.5;
 std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
                                                                        const PreparedTriangles& prepared,
                                                                        const LiquidSurface& surface,
-                                                                       const HydrostaticsQuery& query) {
+                                                                       const HydrostaticsQuery& query,
+                                                                       ExactWaveWork* work) {
   const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
   if (!smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) || !std::isfinite(smooth->third) ||
       !std::isfinite(smooth->fourth) || prepared.nodes.empty())
@@ -197,6 +198,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
                             kExactSurfaceModelTolerance, 0.0, r, offset);
   WettedSums sums;
   bool surfaceFailed = false;  // a corner's height from the surface itself was not finite
+  ExactWaveWork done;          // what the walk does (`work`)
 
   // Clips the triangle `c` where the depth below the model (or, model null, below the surface's own
   // heights at its corners) changes sign, split first so that the model, taken linear between
@@ -211,6 +213,8 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     }
     // The (m + 1)(m + 2) / 2 lattice points L(i, j) = c0 + i/m (c1 - c0) + j/m (c2 - c0), row i
     // holding m + 1 - i of them, each with its depth, then the m^2 pieces between them.
+    done.clippedTriangles += std::size_t(m * m);
+    if (!model) done.surfaceHeights += std::size_t((m + 1) * (m + 2) / 2);
     SurfaceVertex lattice[(kMaxClipSplit + 1) * (kMaxClipSplit + 2) / 2];
     const double inv = 1.0 / m;
     const Eigen::Vector3d u = (c.posed[1] - c.posed[0]) * inv, v = (c.posed[2] - c.posed[0]) * inv;
@@ -238,6 +242,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   // The triangle `c` under `model` (`curvature`: its curvatureNorm()): true when wholly under it
   // (the caller adds its moments to the model's wave part); wholly over, nothing; else clipped.
   auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature) {
+    ++done.pieces;
     const double edgeSquared = longestHorizontalEdgeSquared(c);
     const double margin = curvature * edgeSquared / 6.0;
     double lowest = INFINITY, highestDepth = -INFINITY;
@@ -419,6 +424,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   for (std::size_t i = 0; i < nodes.size();) {
     if (covering && i >= covering->end) covering.reset();
     const TriangleNode& node = nodes[i];
+    ++done.nodes;
     const Eigen::Vector3d center(node.center[0], node.center[1], node.center[2]);
     const Eigen::Vector3d half(node.halfExtent[0], node.halfExtent[1], node.halfExtent[2]);
     double low, high;
@@ -507,6 +513,11 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     }
     flush(group);
     i = node.next;
+  }
+  if (work) {
+    done.models = models.interpolations();
+    done.jets = models.grid().sampled();
+    *work = done;
   }
   if (surfaceFailed)
     return Expected<HydrostaticsResult>(

@@ -162,12 +162,13 @@ std::size_t PreparedPolyhedron::memoryBytes() const {
 }
 
 Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
-                                                    const HydrostaticsQuery& query) {
+                                                    const HydrostaticsQuery& query, ExactWaveWork* work) {
+  if (work) *work = ExactWaveWork{};
   const std::optional<double> flat = surface.flatHeight();
   if (Status valid = validateHydrostaticsQuery(surface, query); !valid) return valid.error();
   if (!flat && surface.hasFreeSurface())
     if (std::optional<Expected<HydrostaticsResult>> waves =
-            detail::wavePolyhedralHydrostatics(*body.mesh_, *body.triangles_, surface, query))
+            detail::wavePolyhedralHydrostatics(*body.mesh_, *body.triangles_, surface, query, work))
       return std::move(*waves);
   if (!flat) return polyhedralHydrostaticsUnchecked(*body.mesh_, surface, query);
   return detail::flatPolyhedralHydrostatics(*body.mesh_, body.triangles_.get(), *flat, surface.density(), query);

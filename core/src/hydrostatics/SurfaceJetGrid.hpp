@@ -39,6 +39,8 @@ class SurfaceJetGrid {
 
   /// Sample spacing in use (m).
   double spacing() const { return spacing_; }
+  /// Jets asked of the surface so far.
+  std::size_t sampled() const { return sampled_; }
 
   /// Interpolated height alone (m, world) at the local point (x, z) (m, relative to the origin;
   /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
@@ -199,6 +201,7 @@ class SurfaceJetGrid {
       zs[k] = originZ_ + lowZ_ + (indices[k] / sideX_) * spacing_;
     }
     surface_.heightJets(std::span(xs, count), std::span(zs, count), time_, std::span(jets, count));
+    sampled_ += count;
     for (std::size_t k = 0; k < count; ++k) {
       const std::optional<SurfaceJet>& jet = jets[k];
       const bool usable = jet && std::isfinite(jet->height) && std::isfinite(jet->slopeX) &&
@@ -220,6 +223,7 @@ class SurfaceJetGrid {
   double time_, originX_, originZ_, lowX_, lowZ_;
   double spacing_ = 1.0;
   int sideX_ = 2, sideZ_ = 2;
+  std::size_t sampled_ = 0;
   std::array<Node, std::size_t(kMaxSide) * kMaxSide> nodes_;
   std::array<std::uint8_t, std::size_t(kMaxSide) * kMaxSide> state_;
 };

@@ -16,6 +16,7 @@
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 #include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
@@ -105,8 +106,35 @@ struct TimingSettings {
 /// (20,480-face icosphere), 21 / 98 (32,256), 33 / 119 (65,024); the hierarchy 7-11 / 22-38 us at
 /// 64^2, 13-19 / 27-52 at 128^2, 26-36 / 48-92 at 256^2 (the Wigley hull 80 / 252); the brute
 /// force on the 1,280-face icosphere 31 / 339, 93 / 1,101, 298 / 3,689 us at 64^2, 128^2, 256^2.
-/// A ranking, not a prediction of one machine's time.
-double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves = false);
+/// A ranking, not a prediction of one machine's time. `waterlineFactor` (>= 1, waterlineFactor())
+/// scales the tile hierarchy's term in R for a body whose waterline is long for its surface.
+double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves = false,
+                                   double waterlineFactor = 1.0);
+
+/// How much longer than a sphere's the waterline of `mesh` is for its surface area: the tile
+/// hierarchy's tiles along the waterline number about R L / sqrt(A) (L the waterline's length, A
+/// the area the atlas covers), sqrt(pi) R for a sphere, so the factor is L / sqrt(pi A), at least
+/// 1, with L taken upright at the mid height of its bounds. A sphere 1, the 1 x 0.5 x 1 m box 1.13,
+/// a 3 m log 1.75, the 4 m Wigley hull 2.5 (its texture path under waves: 252 us measured at
+/// 256^2 where 10 + 0.3 R gave 87).
+double waterlineFactor(const Mesh& mesh);
+
+/// The modeled time (us) of an exact query on a prepared mesh that did `work` under waves: each
+/// unit of work at its cost, 0.05 a node visited, 0.10 a local model, 0.045 a triangle clipped,
+/// 0.31 a height asked of the surface itself and 0.19 a jet sampled. Fitted (least squares on
+/// relative error) to 30 (mesh, sea) pairs: box, 162-vertex hull, Wigley hull, ship, log, buoys,
+/// torus and spheres of data/meshes under bench_peers' swell, log_waves' and the tests' steep sea,
+/// 100 poses each (2-core reference machine, 2026-11): within 14 % of the measured time on average,
+/// 45 % at worst, where modeledMicrosecondsPerQuery's 30 + 0.35 sqrt(T) put the 192-triangle log at
+/// 35 us against 267-416 and the ship under the steep sea at 58 against 6,700. A ranking, as that.
+double modeledExactMicroseconds(const ExactWaveWork& work);
+
+/// The modeled time (us) of an exact query on `body` under `surface`: under a surface that the
+/// prepared path models (smoothness bounds: Gerstner waves) the mean over four queries of
+/// modeledExactMicroseconds of their work, the body upright with the centre of its bounds at the
+/// origin on the surface's mid height, at 0, 1, 2 and 3 s (deterministic: no timing); elsewhere
+/// modeledMicrosecondsPerQuery's. Errors: those of the queries.
+Expected<double> modeledExactMicroseconds(const PreparedPolyhedron& body, const LiquidSurface& surface);
 
 /// Median over `settings.runs` batches of the mean wall time of one call of `work` (s), on the
 /// calling thread, after one warm-up call. A batch holds as many calls as fit in batchSeconds

@@ -30,6 +30,19 @@ namespace detail {
 struct PreparedTriangles;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
 }
 
+/// What one exact query on a prepared mesh did under a surface with smoothness bounds (Gerstner
+/// waves), counted: the work HydrostaticsMethod::Auto prices (modeledExactMicroseconds,
+/// Advisor.hpp), the same on every machine. All zero under a flat surface, and under surfaces the
+/// prepared path does not model (height grids, media).
+struct ExactWaveWork {
+  std::size_t nodes = 0;             ///< hierarchy nodes visited
+  std::size_t models = 0;            ///< local surface models interpolated
+  std::size_t pieces = 0;            ///< triangles and pieces of triangles classified one by one under a model
+  std::size_t clippedTriangles = 0;  ///< triangles clipped against a model or the surface (after their split)
+  std::size_t surfaceHeights = 0;    ///< heights asked of the surface itself (no model within the tolerance)
+  std::size_t jets = 0;              ///< surface jets sampled for the models' interpolation grid
+};
+
 /// A closed mesh, its per-triangle constants and their hierarchy (read-only once made; share it
 /// between bodies of one mesh and between threads).
 class PreparedPolyhedron {
@@ -48,7 +61,7 @@ class PreparedPolyhedron {
 
  private:
   friend Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
-                                                             const HydrostaticsQuery& query);
+                                                             const HydrostaticsQuery& query, ExactWaveWork* work);
   std::shared_ptr<const Mesh> mesh_;
   std::shared_ptr<const detail::PreparedTriangles> triangles_;  // every triangle once, in leaves' order
 };
@@ -62,8 +75,9 @@ class PreparedPolyhedron {
 /// kExactWaveClipError (a 1 m box face sees waves shorter than itself; the plain path's depths,
 /// linear between the mesh's vertices, do not: test_polyhedral_hydrostatics_waves); under height
 /// grids and media the unprepared path on its mesh. Allocation-free. Errors: an invalid query
-/// (validateHydrostaticsQuery), a non-finite surface height (waves, grids).
+/// (validateHydrostaticsQuery), a non-finite surface height (waves, grids). `work`, when given,
+/// receives what the query did under waves (ExactWaveWork).
 Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
-                                                    const HydrostaticsQuery& query);
+                                                    const HydrostaticsQuery& query, ExactWaveWork* work = nullptr);
 
 }  // namespace hydrotex
