@@ -302,15 +302,16 @@ TEST_CASE("modeled exact time under waves: the counted work of queries at a stan
   CHECK(dry.pieces == 0);
   CHECK(dry.clippedTriangles == 0);
 
-  // At the standard pose: the log priced several times a sqrt(T) model's figure, the box about it
-  // (the box's 12 triangles take tens of pieces, which the model's 30 us stood for); flat water
-  // keeps the model in sqrt(T).
+  // At the standard pose: the log priced several times a sqrt(T) model's figure; the box (measured
+  // 24.5-38 us against the texture path's 48 at 256^2) still under the texture path's price at
+  // 256^2, so Auto keeps it exact; flat water keeps the model in sqrt(T).
   const Expected<double> logCost = modeledExactMicroseconds(log, sea);
   const Expected<double> boxCost = modeledExactMicroseconds(box, sea);
   REQUIRE(logCost.ok());
   REQUIRE(boxCost.ok());
   CHECK(*logCost > 4.0 * modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 128, 0, true));
-  CHECK(*boxCost == Approx(modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 12, 0, true)).epsilon(0.5));
+  CHECK(*boxCost < modeledMicrosecondsPerQuery(HydrostaticsMethod::TextureHierarchy, 12, 256, true,
+                                               waterlineFactor(primitives::box({1.0, 0.5, 1.0}))));
   CHECK(*modeledExactMicroseconds(log, sea) == *logCost);
   CHECK(*modeledExactMicroseconds(log, flat) == modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, 128, 0, false));
 }

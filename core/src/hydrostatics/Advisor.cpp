@@ -2,6 +2,7 @@
 // The advisor: measures errors against the exact path and times per query (Advisor.hpp).
 #include "hydrotex/hydrostatics/Advisor.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,6 +26,13 @@ constexpr double kOrientationDegrees[8][3] = {
 std::string nameOf(const Mesh& mesh) { return mesh.sourceName.empty() ? std::string("mesh") : mesh.sourceName; }
 
 volatile double timingSink = 0.0;  // keeps the optimiser from dropping timed answers
+
+/// The axis-aligned bounds (m, body frame) of the mesh's vertices, as (lower, upper).
+Eigen::AlignedBox3d boundsOf(const Mesh& mesh) {
+  Eigen::AlignedBox3d box;  // empty
+  for (const Eigen::Vector3d& p : mesh.positions) box.extend(p);
+  return box;
+}
 
 }  // namespace
 
@@ -156,12 +164,7 @@ double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triang
 }
 
 double waterlineFactor(const Mesh& mesh) {
-  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
-  for (const Eigen::Vector3d& p : mesh.positions) {
-    lower = lower.cwiseMin(p);
-    upper = upper.cwiseMax(p);
-  }
-  const double level = 0.5 * (lower.y() + upper.y());
+  const double level = boundsOf(mesh).center().y();
   const auto count = mesh.positions.size();
   double length = 0.0, area = 0.0;
   for (const Eigen::Vector3i& t : mesh.triangles) {
@@ -193,14 +196,9 @@ Expected<double> modeledExactMicroseconds(const PreparedPolyhedron& body, const 
   const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
   const std::optional<SurfaceSmoothness> smooth = waves ? surface.smoothness(0.0) : std::nullopt;
   if (!smooth) return modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
-  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
-  for (const Eigen::Vector3d& p : mesh.positions) {
-    lower = lower.cwiseMin(p);
-    upper = upper.cwiseMax(p);
-  }
   const std::pair<double, double> heights = surface.heightRange(0.0);
   const double level = std::isfinite(heights.first + heights.second) ? 0.5 * (heights.first + heights.second) : 0.0;
-  const Eigen::Vector3d center = 0.5 * (lower + upper);
+  const Eigen::Vector3d center = boundsOf(mesh).center();
   double total = 0.0;
   constexpr int kQueries = 4;
   for (int k = 0; k < kQueries; ++k) {
@@ -329,12 +327,7 @@ double exactLinearizationError(const Mesh& mesh, double volume, const LiquidSurf
   for (const Eigen::Vector3i& t : mesh.triangles)
     for (int k = 0; k < 3; ++k)
       longest = std::max(longest, (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).squaredNorm());
-  Eigen::Vector3d lower = mesh.positions.front(), upper = lower;
-  for (const Eigen::Vector3d& p : mesh.positions) {
-    lower = lower.cwiseMin(p);
-    upper = upper.cwiseMax(p);
-  }
-  const Eigen::Vector3d e = upper - lower;
+  const Eigen::Vector3d e = boundsOf(mesh).sizes();
   const double largestFace = std::max({e.x() * e.y(), e.y() * e.z(), e.x() * e.z()});
   // The vertices' heights may be interpolated too (polyhedralHydrostaticsUnchecked): their bound adds.
   return (*curvature * longest / 8.0 + kExactWaveHeightError) * largestFace / volume;

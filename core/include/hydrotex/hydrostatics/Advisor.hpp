@@ -115,8 +115,8 @@ double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triang
 /// hierarchy's tiles along the waterline number about R L / sqrt(A) (L the waterline's length, A
 /// the area the atlas covers), sqrt(pi) R for a sphere, so the factor is L / sqrt(pi A), at least
 /// 1, with L taken upright at the mid height of its bounds. A sphere 1, the 1 x 0.5 x 1 m box 1.13,
-/// a 3 m log 1.75, the 4 m Wigley hull 2.5 (its texture path under waves: 252 us measured at
-/// 256^2 where 10 + 0.3 R gave 87).
+/// a 3 m log 1.75, the 4 m Wigley hull 2.44 (its texture path under waves: 252 us measured at
+/// 256^2, modeledMicrosecondsPerQuery's figures above, where 10 + 0.3 R gave 87).
 double waterlineFactor(const Mesh& mesh);
 
 /// The modeled time (us) of an exact query on a prepared mesh that did `work` under waves: each
