@@ -116,9 +116,11 @@ struct PreparedTriangles {
 /// `prepared`: the mesh's triangles in a hierarchy (their constants made once), or null to visit
 /// the mesh's triangles one by one and compute the constants of those that need them. The two
 /// add the same terms in another order: they agree to rounding (test_prepared_polyhedron).
-/// Error: a non-finite result (a vertex that is NaN or infinite).
+/// Error: a non-finite result (a vertex that is NaN or infinite). `nodesVisited`, when given with a
+/// hierarchy, receives the nodes its walk visited.
 Expected<HydrostaticsResult> flatPolyhedralHydrostatics(const Mesh& mesh, const PreparedTriangles* prepared,
-                                                        double level, double density, const HydrostaticsQuery& query);
+                                                        double level, double density, const HydrostaticsQuery& query,
+                                                        std::size_t* nodesVisited = nullptr);
 
 /// The exact hydrostatics of a prepared closed mesh under a surface that is not flat and offers
 /// smoothness bounds (Gerstner waves): its triangle nodes against local surface models

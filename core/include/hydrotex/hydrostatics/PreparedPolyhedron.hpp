@@ -32,8 +32,8 @@ struct PreparedTriangles;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
 
 /// What one exact query on a prepared mesh did under a surface with smoothness bounds (Gerstner
 /// waves), counted: the work HydrostaticsMethod::Auto prices (modeledExactMicroseconds,
-/// Advisor.hpp), the same on every machine. All zero under a flat surface, and under surfaces the
-/// prepared path does not model (height grids, media).
+/// Advisor.hpp), the same on every machine. Under a flat surface only `nodes` (the flat-water
+/// hierarchy's); all zero under surfaces the prepared path does not model (height grids, media).
 struct ExactWaveWork {
   std::size_t nodes = 0;             ///< hierarchy nodes visited
   std::size_t models = 0;            ///< local surface models interpolated
@@ -55,20 +55,23 @@ class PreparedPolyhedron {
   /// Nodes of the hierarchy the flat-surface sums walk (leaves of at most 8 triangles, halved at
   /// medians: 2 L - 1 nodes for L leaves).
   std::size_t nodeCount() const;
-  /// Heap held by the constants, the nodes and the triangles in their order (bytes; the mesh
-  /// is shared, not counted).
+  /// Heap held by the constants, the nodes and the triangles in their order, for each of its two
+  /// hierarchies where they differ (bytes; the mesh is shared, not counted).
   std::size_t memoryBytes() const;
 
  private:
   friend Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query, ExactWaveWork* work);
   std::shared_ptr<const Mesh> mesh_;
-  std::shared_ptr<const detail::PreparedTriangles> triangles_;  // every triangle once, in leaves' order
+  // Every triangle once, in leaves' order, in two hierarchies: the one waves walk, halved across
+  // the longest side, and the one flat water walks, halved across the height first
+  // (PreparedPolyhedron.cpp, kFlatVerticalWeight); the same object where the two coincide.
+  std::shared_ptr<const detail::PreparedTriangles> triangles_, flatTriangles_;
 };
 
 /// Exact hydrostatics of a prepared mesh (as polyhedralHydrostatics, PolyhedralHydrostatics.hpp,
-/// for every surface): under a flat surface from its constants (allocation-free once the thread's
-/// scratch of one depth per vertex has grown); under a surface with smoothness bounds (Gerstner
+/// for every surface): under a flat surface from its constants over a hierarchy halved across the height
+/// first, the depths taken only at the corners of the leaves the water plane crosses; under a surface with smoothness bounds (Gerstner
 /// waves) its nodes against local surface models within kExactSurfaceModelTolerance, wholly wet
 /// ones adding their constants and the model's wave part, the triangles the water line crosses
 /// clipped against the model after a split that keeps its linearization within
