@@ -84,7 +84,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   // Every counter is a std::uint64_t: a new one that is not added here fails this check.
-  static_assert(sizeof(ControllerStatistics) == 18 * sizeof(std::uint64_t), "add the new counter below");
+  static_assert(sizeof(ControllerStatistics) == 19 * sizeof(std::uint64_t), "add the new counter below");
   into.steps += from.steps;
   into.hydrostaticsQueries += from.hydrostaticsQueries;
   into.dragPasses += from.dragPasses;
@@ -101,6 +101,7 @@ void addCounters(ControllerStatistics& into, const ControllerStatistics& from) {
   into.wettingSteps += from.wettingSteps;
   into.backendBatches += from.backendBatches;
   into.autoMethodChoices += from.autoMethodChoices;
+  into.exactPreparations += from.exactPreparations;
   into.massBatches += from.massBatches;
   into.massBatchBodies += from.massBatchBodies;
 }
@@ -219,8 +220,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   const Mesh& mesh = *floating->mesh;
   // A body whose per-body state is only its motion shares its mesh's model (bake, texels, drag
   // patches, mass properties) with the bodies of the same mesh and settings: a crate of a kind.
+  // Auto resolved; under waves its pricing prepares the exact path's mesh, kept for the body.
+  std::shared_ptr<const PreparedPolyhedron> pricedPrepared;
   const HydrostaticsMethod method = floating->report.method =
-      sphereRadius ? HydrostaticsMethod::Polyhedral : resolveMethod(settings, floating->mesh);  // Auto resolved
+      sphereRadius ? HydrostaticsMethod::Polyhedral : resolveMethod(settings, floating->mesh, pricedPrepared);
   const bool texturePath = method == HydrostaticsMethod::Texture &&
                            (settings.effects.has(Effect::Buoyancy) || settings.effects.has(Effect::AddedMass));
   const bool exactPath = method == HydrostaticsMethod::Polyhedral &&
@@ -287,7 +290,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   // The exact path's mesh prepared once (per-triangle constants), unless it moves every step.
   if (shared) {
     floating->exactPrepared = shared->exactPrepared;
+  } else if (exactPath && !deforming && pricedPrepared) {
+    floating->exactPrepared = std::move(pricedPrepared);
   } else if (exactPath && !deforming) {
+    ++statistics_.exactPreparations;
     Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(floating->mesh);
     if (!prepared) return prepared.error();
     floating->exactPrepared = std::make_shared<const PreparedPolyhedron>(std::move(prepared).value());
@@ -496,7 +502,9 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
 }
 
 HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings& settings,
-                                                     const std::shared_ptr<const Mesh>& mesh) {
+                                                     const std::shared_ptr<const Mesh>& mesh,
+                                                     std::shared_ptr<const PreparedPolyhedron>& prepared) {
+  prepared.reset();
   if (settings.method != HydrostaticsMethod::Auto) return settings.method;
   // The choice depends only on the key's parts: a crate of a kind is measured once (a mesh made
   // from a shape or a file is interned, so bodies of shapes alike count as one kind).
@@ -506,7 +514,8 @@ HydrostaticsMethod BuoyancyController::resolveMethod(const FloatingBodySettings&
   // Not resolved again: taken from the first body of the mesh (and not counted).
   if (found != autoChoices_.end() && found->second.mesh.lock() == mesh) return found->second.method;
   ++statistics_.autoMethodChoices;
-  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface);
+  const HydrostaticsMethod method = resolveHydrostaticsMethod(settings, mesh, *liquid_.surface, &prepared);
+  if (prepared) ++statistics_.exactPreparations;
   autoChoices_[key] = AutoChoice{mesh, method};
   return method;
 }

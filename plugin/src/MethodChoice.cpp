@@ -20,7 +20,9 @@
 namespace hydrotex::bullet {
 
 HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& settings,
-                                             const std::shared_ptr<const Mesh>& meshPointer, const LiquidSurface& surface) {
+                                             const std::shared_ptr<const Mesh>& meshPointer, const LiquidSurface& surface,
+                                             std::shared_ptr<const PreparedPolyhedron>* prepared) {
+  if (prepared) prepared->reset();
   if (settings.method != HydrostaticsMethod::Auto) return settings.method;
   const Mesh& mesh = *meshPointer;
   // Only the texture path follows a deforming mesh (its bake is re-evaluated from moved vertices).
@@ -43,8 +45,10 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
   // log's sides take thousands of local models where a ship's small triangles take one each):
   // priced from the work of queries at a standard pose, counted, not timed.
   if (waves && surface.smoothness(0.0))
-    if (const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(meshPointer))
-      if (const Expected<double> priced = modeledExactMicroseconds(*prepared, surface)) exactCost = *priced;
+    if (Expected<PreparedPolyhedron> made = PreparedPolyhedron::prepare(meshPointer)) {
+      if (const Expected<double> priced = modeledExactMicroseconds(*made, surface)) exactCost = *priced;
+      if (prepared) *prepared = std::make_shared<const PreparedPolyhedron>(std::move(made).value());
+    }
   // Under waves both prices grow with the waterline: the exact path's by its counted work, the
   // texture path's by its tiles along the waterline (waterlineFactor).
   const double textureCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::TextureHierarchy,

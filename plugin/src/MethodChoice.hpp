@@ -9,6 +9,7 @@
 
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/mesh/Mesh.hpp"
 
 namespace hydrotex::bullet {
@@ -21,7 +22,10 @@ namespace hydrotex::bullet {
 /// flat water, times modeled): the texture path when it meets the target and is the cheaper or the
 /// exact path does not meet it, the exact path when it meets the target, else whichever errs less.
 /// Polyhedral when the mesh cannot be measured (addBody then names the mesh's defect itself).
+/// `prepared`, when given, receives the prepared mesh made to price the exact path under waves
+/// (null where none was made), so that a body that then runs it is not prepared again.
 HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& settings, const std::shared_ptr<const Mesh>& mesh,
-                                             const LiquidSurface& surface);
+                                             const LiquidSurface& surface,
+                                             std::shared_ptr<const PreparedPolyhedron>* prepared = nullptr);
 
 }  // namespace hydrotex::bullet

@@ -87,9 +87,15 @@ TEST_CASE("method auto under waves: the exact path where it models the surface, 
   settings.autoMethodError = 1e-3;
   {
     TestWorld world(logWaves);
+    settings.mesh = std::make_shared<const Mesh>(box);  // one mesh for both boxes below
     btRigidBody* body = world.add(box, settings, btVector3(0, 0, 0));
     REQUIRE(body != nullptr);
     CHECK(world.controller().report(body)->method == bullet::HydrostaticsMethod::Polyhedral);
+    // The mesh Auto prepared to price the exact path is the one the body runs: one preparation,
+    // where the body had been prepared again after its pricing; a second box of the kind shares it.
+    CHECK(world.controller().statistics().exactPreparations == 1);
+    REQUIRE(world.add(box, settings, btVector3(3, 0, 0)) != nullptr);
+    CHECK(world.controller().statistics().exactPreparations == 1);
     for (int i = 0; i < 30; ++i) world.step(1.0 / 60.0);
     CHECK(world.controller().statistics().failedQueries == 0);
   }

@@ -26,6 +26,10 @@
 #include "hydrotex/bullet/FloatingBodySettings.hpp"
 #include "hydrotex/bullet/SoftBodyBuoyancy.hpp"
 
+namespace hydrotex {
+class PreparedPolyhedron;
+}
+
 namespace hydrotex::bullet {
 
 /// The liquid (or gas) the bodies are in.
@@ -91,6 +95,7 @@ struct ControllerStatistics {
   std::uint64_t wettingSteps = 0;         ///< liquid texture steps (bodies listing Effect::Wetting)
   std::uint64_t backendBatches = 0;       ///< hydrostatics batches asked of the backend (results read back once each)
   std::uint64_t autoMethodChoices = 0;    ///< HydrostaticsMethod::Auto resolved at addBody (bodies of one mesh share one: one Mesh given, or shapes and files alike)
+  std::uint64_t exactPreparations = 0;    ///< meshes prepared for the exact path at addBody (PreparedPolyhedron), Auto's pricing under waves included
   std::uint64_t massBatches = 0;          ///< mass-pass batches asked of the backend (MassModelsStep; results read back once each)
   std::uint64_t massBatchBodies = 0;      ///< bodies whose texel mass pass those batches ran
 };
@@ -246,7 +251,8 @@ class BuoyancyController : public btActionInterface {
 
  private:
   FloatingBody* find(const btRigidBody* body) const;
-  HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const std::shared_ptr<const Mesh>& mesh);
+  HydrostaticsMethod resolveMethod(const FloatingBodySettings& settings, const std::shared_ptr<const Mesh>& mesh,
+                                   std::shared_ptr<const PreparedPolyhedron>& prepared);
   void changeBody(FloatingBody& floating, MassModelTask& massTask, double dt);
   void prepareMass(FloatingBody& floating, MassModelTask& massTask) const;
   void applyMass(FloatingBody& floating, const Expected<MassProperties>& properties);
