@@ -247,6 +247,34 @@ TEST_CASE("modeled times: the same advice on every run, from the cost model's fi
   CHECK(strict->best.method == HydrostaticsMethod::Exact);
 }
 
+TEST_CASE("exact path under waves: a node too wide for a model is tested against its wide ancestor's", "[advisor][model]") {
+  // A node too wide for a model within the tolerance is skipped when wholly over a model with a
+  // wider bound (PolyhedralHydrostaticsWaves.cpp); it asks for one of its own only when its
+  // footprint is under kWideRefresh (half) of the nearest such ancestor's, and is otherwise
+  // tested against that one. A Wigley hull (6,334 faces) floating at half its draft under a swell,
+  // at four poses and times: the walk asks for at most the models below (2,076 with a model for
+  // every such node, before kWideRefresh; 1,440 now). Its answers are checked against the
+  // per-texel answer in test_polyhedral_hydrostatics_waves.
+  const GerstnerWaves sea({GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                           GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                           GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}},
+                          0.0, 1025.0);
+  const Expected<PreparedPolyhedron> hull =
+      PreparedPolyhedron::prepare(std::make_shared<const Mesh>(primitives::wigleyHull(4.0, 0.4, 0.25, 96, 16)));
+  REQUIRE(hull.ok());
+  std::size_t models = 0;
+  for (int k = 0; k < 4; ++k) {
+    HydrostaticsQuery query;
+    query.pose.rotation = Eigen::AngleAxisd(0.03 * k, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    query.pose.translation = Eigen::Vector3d(0.7 * k, 0.125, 0.0);
+    query.time = 0.8 * k;
+    ExactWaveWork work;
+    REQUIRE(polyhedralHydrostatics(*hull, sea, query, &work).ok());
+    models += work.models;
+  }
+  CHECK(models <= 1700);
+}
+
 TEST_CASE("modeled exact time under waves: the counted work of queries at a standard pose", "[advisor][model]") {
   // modeledExactMicroseconds (Advisor.hpp) prices what wavePolyhedralHydrostatics counts
   // (ExactWaveWork): deterministic, and counting does not change the answer.

@@ -5,7 +5,7 @@
 /// path's tiles are (LocalSurfaceModel.hpp, the same models, bounds and wave part). A node wholly
 /// under its model adds its summed constants and their wave part, O(1); one wholly above is
 /// skipped (a node too wide for a model within the tolerance is still skipped when wholly over a
-/// model with its wider bound); a leaf the water line may cross goes triangle by triangle under
+/// model with its wider bound, its own or a wider node's above it); a leaf the water line may cross goes triangle by triangle under
 /// the leaf's model, or, where the leaf is too wide for one, under a model for each run of its
 /// triangles whose footprint allows one (a triangle too wide alone is split into n^2 similar
 /// pieces, or, where fewer, a sliver into 2k - 1 pieces of k strips across its length, each piece
@@ -162,6 +162,14 @@ constexpr int kMaxModelStrips = kMaxModelSplit * kMaxModelSplit / 2;
 // and so far inside their bound) had been 1.4e-5 V and 2.6e-5; at half, 5.3e-6 V and 1.5e-5,
 // for 1.25x the strips' cost (and 4.8x under the lattice's: 304 against 1,460 us a query).
 constexpr double kStripToleranceShare = 0.5;
+// A node too wide for a model within the tolerance asks a model with a wider bound to find it
+// wholly over the surface, unless a wider node above it has one and its footprint reaches more
+// than this share of that node's: then it is tested against that model. Probe, 100 poses under
+// bench_peers' swell, two passes (2-core reference machine): a model per node (1.0) against
+// 0.5 / 0.0, us a query: Wigley hull 113.7-115.4 against 109.0-110.6 / 131.6-134.4 (models
+// 480 -> 306 / 485, its nodes opened more at 0), ship 571.5-574.5 against 546.9-547.9 /
+// 528-534, the 17,160-face sphere 69.8-70.1 against 67.0-67.9 / 66.3-67.7; box unchanged.
+constexpr double kWideRefresh = 0.5;
 
 }  // namespace
 
@@ -421,8 +429,20 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     double curvature;  // model.curvatureNorm()
   };
   std::optional<Covering> covering;
+  // The model, with its wider bound, of the widest node open on the walk that had none within the
+  // tolerance: it bounds the surface over the node's subtree too, so a descendant is tested
+  // against it for lying wholly over the surface before asking a model of its own (until the walk
+  // leaves the subtree at `end`), and asks one only when its footprint is under kWideRefresh
+  // of the wide model's (its bound then at most an eighth as wide in the third-order term).
+  struct Wide {
+    std::size_t end;
+    SurfaceModel model;
+    double radius;
+  };
+  std::optional<Wide> wide;
   for (std::size_t i = 0; i < nodes.size();) {
     if (covering && i >= covering->end) covering.reset();
+    if (wide && i >= wide->end) wide.reset();
     const TriangleNode& node = nodes[i];
     ++done.nodes;
     const Eigen::Vector3d center(node.center[0], node.center[1], node.center[2]);
@@ -438,14 +458,19 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       SurfaceModel model;
       if (models.over(f, model)) {
         covering = Covering{node.next, model, model.curvatureNorm()};
-      } else if (models.anyOver(f, model)) {
+      } else {
         // Too wide for a model within the tolerance, but a model with its wider bound still
         // finds a node wholly over the surface (a ship's deck between crests).
-        double modelLow, modelHigh;
-        model.range(f.x, f.z, f.reachX, f.reachZ, modelLow, modelHigh);
-        if (low >= modelHigh) {
-          i = node.next;
-          continue;
+        if (!wide || f.radius < kWideRefresh * wide->radius) {
+          if (models.anyOver(f, model)) wide = Wide{node.next, model, f.radius};
+        }
+        if (wide) {
+          double modelLow, modelHigh;
+          wide->model.range(f.x, f.z, f.reachX, f.reachZ, modelLow, modelHigh);
+          if (low >= modelHigh) {
+            i = node.next;
+            continue;
+          }
         }
       }
     }
