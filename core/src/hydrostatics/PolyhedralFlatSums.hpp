@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -103,12 +104,19 @@ struct NodeSums {
 
 /// A mesh's triangles laid out for the hierarchy (PreparedPolyhedron::prepare): the index triples
 /// and constants in the leaves' order, and the nodes, depth first (the root first), with their
-/// sums in the same order.
+/// sums in the same order. A second layout of the same mesh may keep no constants of its own and
+/// read another's (`constantsOf`) through `constantIndex`: the 104 bytes a triangle once.
 struct PreparedTriangles {
   std::vector<Eigen::Vector3i> triangles;
-  std::vector<TriangleConstants> constants;
+  std::vector<TriangleConstants> constants;  ///< in this layout's order; empty when read from `constantsOf`
+  std::shared_ptr<const PreparedTriangles> constantsOf;
+  std::vector<std::uint32_t> constantIndex;  ///< triangle k's constants are constantsOf->constants[constantIndex[k]]
   std::vector<TriangleNode> nodes;
   std::vector<NodeSums> sums;
+  /// The constants of triangle k (this layout's order).
+  const TriangleConstants& constant(std::size_t k) const {
+    return constantsOf ? constantsOf->constants[constantIndex[k]] : constants[k];
+  }
 };
 
 /// The exact hydrostatics of a closed mesh (body frame) under a flat surface at `level` (m) of

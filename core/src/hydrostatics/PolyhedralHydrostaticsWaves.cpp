@@ -397,7 +397,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
                            0.5 * (g.highZ - g.lowZ), Group::radius(g.lowX, g.highX, g.lowZ, g.highZ)};
     SurfaceModel model;
     if (!models.over(f, model)) {
-      for (int member = 0; member < g.count; ++member) addAlone(g.corners[member], prepared.constants[g.index[member]]);
+      for (int member = 0; member < g.count; ++member) addAlone(g.corners[member], prepared.constant(g.index[member]));
     } else {
       const double curvature = model.curvatureNorm();
       Moments submerged;
@@ -405,7 +405,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       int under = 0;
       for (int member = 0; member < g.count; ++member) {
         if (!addUnder(g.corners[member], model, curvature)) continue;
-        submerged.add(momentsOf(prepared.constants[g.index[member]]));
+        submerged.add(momentsOf(prepared.constant(g.index[member])));
         for (int a = 0; a < 3; ++a) {
           body += g.corners[member].body[a];
           posed += g.corners[member].posed[a];
@@ -507,7 +507,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
         if (under == node.end - node.begin) {
           submerged = momentsOf(prepared.sums[i]);
         } else {
-          for (std::uint32_t l = 0; l < under; ++l) submerged.add(momentsOf(prepared.constants[listed[l]]));
+          for (std::uint32_t l = 0; l < under; ++l) submerged.add(momentsOf(prepared.constant(listed[l])));
         }
         models.addSubmerged(submerged, center, covering->model.recentered(f.x, f.z));
       }
@@ -531,7 +531,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       }
       if (group.count > 0 && !group.fits(fromX, toX, fromZ, toZ, models)) flush(group);
       if (group.count == 0 && !Group::fitsAlone(fromX, toX, fromZ, toZ, models)) {
-        addAlone(c, prepared.constants[k]);
+        addAlone(c, prepared.constant(k));
         continue;
       }
       group.add(c, k, fromX, toX, fromZ, toZ);

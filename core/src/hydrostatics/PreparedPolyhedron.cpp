@@ -122,27 +122,22 @@ void buildSubtree(const HierarchyInput& input, std::vector<std::uint32_t>& order
   node.next = std::uint32_t(nodes.size());
 }
 
-/// The triangles of `mesh` (their constants `constants`, by original index) in a hierarchy halved
-/// with the y axis weighted by `verticalWeight`, in its leaves' order.
-std::shared_ptr<const detail::PreparedTriangles> layOut(const Mesh& mesh,
-                                                        const std::vector<detail::TriangleConstants>& constants,
-                                                        double verticalWeight) {
+/// The order of the triangles of `mesh` (their constants `constants`, by original index) in a
+/// hierarchy halved with the y axis weighted by `verticalWeight` (its leaves' order), and the
+/// hierarchy into `layout`'s nodes and sums.
+std::vector<std::uint32_t> buildHierarchy(const Mesh& mesh, const std::vector<detail::TriangleConstants>& constants,
+                                          double verticalWeight, detail::PreparedTriangles& layout) {
   const std::size_t triangleCount = mesh.triangles.size();
   std::vector<std::uint32_t> order(triangleCount);
   std::iota(order.begin(), order.end(), 0u);
-  auto layout = std::make_shared<detail::PreparedTriangles>();
   Eigen::Vector3d lower, upper;
-  buildSubtree(HierarchyInput{mesh, constants, verticalWeight}, order, 0, triangleCount, layout->nodes, layout->sums,
+  buildSubtree(HierarchyInput{mesh, constants, verticalWeight}, order, 0, triangleCount, layout.nodes, layout.sums,
                lower, upper);
-  layout->nodes.shrink_to_fit();
-  layout->sums.shrink_to_fit();
-  layout->triangles.reserve(triangleCount);
-  layout->constants.reserve(triangleCount);
-  for (std::uint32_t t : order) {
-    layout->triangles.push_back(mesh.triangles[t]);
-    layout->constants.push_back(constants[t]);
-  }
-  return layout;
+  layout.nodes.shrink_to_fit();
+  layout.sums.shrink_to_fit();
+  layout.triangles.reserve(triangleCount);
+  for (std::uint32_t t : order) layout.triangles.push_back(mesh.triangles[t]);
+  return order;
 }
 
 }  // namespace
@@ -169,11 +164,27 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
                                              mesh->positions[std::size_t(tri[1])].data(),
                                              mesh->positions[std::size_t(tri[2])].data());
   }
+  // The flat-water layout keeps the constants in its order (its walk reads them leaf by leaf);
+  // the waves layout reads them through an index, unless the two orders are one (a box: a leaf
+  // or two), where one layout serves both.
+  auto flat = std::make_shared<detail::PreparedTriangles>();
+  const std::vector<std::uint32_t> flatOrder = buildHierarchy(*mesh, constants, kFlatVerticalWeight, *flat);
+  flat->constants.reserve(triangleCount);
+  for (std::uint32_t t : flatOrder) flat->constants.push_back(constants[t]);
+  auto waves = std::make_shared<detail::PreparedTriangles>();
+  const std::vector<std::uint32_t> wavesOrder = buildHierarchy(*mesh, constants, 1.0, *waves);
   PreparedPolyhedron body;
-  body.triangles_ = layOut(*mesh, constants, 1.0);
-  body.flatTriangles_ = layOut(*mesh, constants, kFlatVerticalWeight);
-  // A body whose two hierarchies are one (a box: a leaf or two) keeps one.
-  if (body.flatTriangles_->triangles == body.triangles_->triangles) body.flatTriangles_ = body.triangles_;
+  body.flatTriangles_ = flat;
+  if (wavesOrder == flatOrder) {
+    body.triangles_ = flat;
+  } else {
+    std::vector<std::uint32_t> flatPlace(triangleCount);
+    for (std::size_t k = 0; k < triangleCount; ++k) flatPlace[flatOrder[k]] = std::uint32_t(k);
+    waves->constantIndex.reserve(triangleCount);
+    for (std::uint32_t t : wavesOrder) waves->constantIndex.push_back(flatPlace[t]);
+    waves->constantsOf = flat;
+    body.triangles_ = std::move(waves);
+  }
   body.mesh_ = std::move(mesh);
   return body;
 }
@@ -183,7 +194,8 @@ std::size_t PreparedPolyhedron::nodeCount() const { return flatTriangles_ ? flat
 std::size_t PreparedPolyhedron::memoryBytes() const {
   const auto bytes = [](const detail::PreparedTriangles& t) {
     return t.triangles.capacity() * sizeof(Eigen::Vector3i) + t.constants.capacity() * sizeof(detail::TriangleConstants) +
-           t.nodes.capacity() * sizeof(detail::TriangleNode) + t.sums.capacity() * sizeof(detail::NodeSums);
+           t.constantIndex.capacity() * sizeof(std::uint32_t) + t.nodes.capacity() * sizeof(detail::TriangleNode) +
+           t.sums.capacity() * sizeof(detail::NodeSums);
   };
   if (!triangles_) return 0;
   return bytes(*triangles_) + (flatTriangles_ != triangles_ ? bytes(*flatTriangles_) : 0);

@@ -55,8 +55,8 @@ class PreparedPolyhedron {
   /// Nodes of the hierarchy the flat-surface sums walk (leaves of at most 8 triangles, halved at
   /// medians: 2 L - 1 nodes for L leaves).
   std::size_t nodeCount() const;
-  /// Heap held by the constants, the nodes and the triangles in their order, for each of its two
-  /// hierarchies where they differ (bytes; the mesh is shared, not counted).
+  /// Heap held by the constants (once), the nodes and the triangles in their order, for each of
+  /// its two hierarchies where they differ (bytes; the mesh is shared, not counted).
   std::size_t memoryBytes() const;
 
  private:
@@ -65,7 +65,8 @@ class PreparedPolyhedron {
   std::shared_ptr<const Mesh> mesh_;
   // Every triangle once, in leaves' order, in two hierarchies: the one waves walk, halved across
   // the longest side, and the one flat water walks, halved across the height first
-  // (PreparedPolyhedron.cpp, kFlatVerticalWeight); the same object where the two coincide.
+  // (PreparedPolyhedron.cpp, kFlatVerticalWeight), which holds the triangles' constants for
+  // both; the same object where the two coincide.
   std::shared_ptr<const detail::PreparedTriangles> triangles_, flatTriangles_;
 };
 
