@@ -40,7 +40,11 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
   // under Gerstner waves; a height grid leaves the exact path out by its error below); a medium
   // without a free surface as flat water (no surface to model).
   const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
-  double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  // Both prices grow with the waterline's length (waterlineFactor): the exact path's by the
+  // triangles it crosses, the texture path's by its tiles; under waves the exact path's instead by
+  // its counted work below.
+  const double factor = waterlineFactor(mesh);
+  double exactCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves, factor);
   // Under waves the exact path's work depends on its triangles' size against the waves (a 3 m
   // log's sides take thousands of local models where a ship's small triangles take one each):
   // priced from the work of queries at a standard pose, counted, not timed.
@@ -49,11 +53,8 @@ HydrostaticsMethod resolveHydrostaticsMethod(const FloatingBodySettings& setting
       if (const Expected<double> priced = modeledExactMicroseconds(*made, surface)) exactCost = *priced;
       if (prepared) *prepared = std::make_shared<const PreparedPolyhedron>(std::move(made).value());
     }
-  // Under waves both prices grow with the waterline: the exact path's by its counted work, the
-  // texture path's by its tiles along the waterline (waterlineFactor).
   const double textureCost = modeledMicrosecondsPerQuery(hydrotex::HydrostaticsMethod::TextureHierarchy,
-                                                         mesh.triangles.size(), settings.resolution, waves,
-                                                         waves ? waterlineFactor(mesh) : 1.0);
+                                                         mesh.triangles.size(), settings.resolution, waves, factor);
   if (exactError <= target && exactCost <= textureCost) return HydrostaticsMethod::Polyhedral;  // nothing to measure
   // The texture path's error at the body's resolution, measured against the exact path in flat
   // water (under waves its texels see the surface's true height at their centres, a far finer

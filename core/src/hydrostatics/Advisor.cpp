@@ -154,9 +154,9 @@ double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triang
   const double rows = r * std::max(1.0, waterlineFactor);  // tiles along the waterline
   switch (method) {
     case HydrostaticsMethod::Exact:
-      return waves ? 30.0 + 0.35 * rootT : 0.2 + 0.13 * rootT;
+      return waves ? 30.0 + 0.35 * rootT : 0.01 + 0.05 * std::max(1.0, waterlineFactor) * rootT;
     case HydrostaticsMethod::TextureHierarchy:
-      return waves ? 10.0 + 0.3 * rows : 2.0 + 0.12 * rows;
+      return waves ? 10.0 + 0.3 * rows : 0.9 + 0.089 * rows;
     case HydrostaticsMethod::TextureBruteForce:
       return waves ? 100.0 + 0.055 * r * r : 10.0 + 0.0045 * r * r;
   }
@@ -195,7 +195,8 @@ Expected<double> modeledExactMicroseconds(const PreparedPolyhedron& body, const 
   const Mesh& mesh = body.mesh();
   const bool waves = surface.hasFreeSurface() && !surface.flatHeight().has_value();
   const std::optional<SurfaceSmoothness> smooth = waves ? surface.smoothness(0.0) : std::nullopt;
-  if (!smooth) return modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves);
+  if (!smooth)
+    return modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0, waves, waterlineFactor(mesh));
   const std::pair<double, double> heights = surface.heightRange(0.0);
   const double level = std::isfinite(heights.first + heights.second) ? 0.5 * (heights.first + heights.second) : 0.0;
   const Eigen::Vector3d center = boundsOf(mesh).center();
@@ -262,8 +263,10 @@ Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const 
       references, scales, settings.timing);
   if (!exact) return exact.error();
   exact->method = HydrostaticsMethod::Exact;
+  // Modeled times grow with the waterline's length on both paths (waterlineFactor).
+  const double factor = settings.timing.modeled ? waterlineFactor(mesh) : 1.0;
   if (settings.timing.modeled)
-    exact->microsecondsPerQuery = modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0);
+    exact->microsecondsPerQuery = modeledMicrosecondsPerQuery(HydrostaticsMethod::Exact, mesh.triangles.size(), 0, false, factor);
   exact->bytes = meshBytes(mesh);
   advice.candidates.push_back(*exact);
   advice.best = *exact;
@@ -289,7 +292,8 @@ Expected<Advice> adviseHydrostatics(const Mesh& mesh, double targetError, const 
       measured->method = method;
       measured->resolution = resolution;
       if (settings.timing.modeled)
-        measured->microsecondsPerQuery = modeledMicrosecondsPerQuery(method, mesh.triangles.size(), resolution);
+        measured->microsecondsPerQuery =
+            modeledMicrosecondsPerQuery(method, mesh.triangles.size(), resolution, false, factor);
       measured->bytes = textureHydrostaticsBytes(*texture);
       advice.candidates.push_back(*measured);
       const bool meets = measured->maxErrors.worst() <= targetError;

@@ -93,21 +93,28 @@ struct TimingSettings {
 };
 
 /// A model of the time of one query (us), for choices that must not depend on the machine or its
-/// load, in flat water or (`waves`) under Gerstner waves. For a mesh of T triangles the exact path
-/// is what a body stepped by the controller runs, a PreparedPolyhedron: its hierarchy visits the
-/// triangles along the waterline, about sqrt(T) of them: 0.2 + 0.13 sqrt(T) in flat water, 30 +
-/// 0.35 sqrt(T) under waves (the surface modelled over the nodes it crosses). The texture path's
-/// tile hierarchy at R texels a side visits the tiles the waterline crosses, about R of them: 2 +
-/// 0.12 R, under waves 10 + 0.3 R; its brute force every texel: 10 + 0.0045 R^2, under waves 100
-/// + 0.055 R^2. Fitted to one query at a time (median of 5) on a body tilted 6 and 2 degrees,
-/// floating at its centre of mass, under bench_peers' three waves (2-core reference machine,
-/// 2026-11): exact 0.22 / 38 us (box), 1.5 / 34 (320-face hull), 3.0 / 33 (1,280-face
-/// icosphere), 13 / 144 (Wigley hull, 4,222), 12 / 65 (17,160-face sphere), 16-19 / 90
-/// (20,480-face icosphere), 21 / 98 (32,256), 33 / 119 (65,024); the hierarchy 7-11 / 22-38 us at
-/// 64^2, 13-19 / 27-52 at 128^2, 26-36 / 48-92 at 256^2 (the Wigley hull 80 / 252); the brute
-/// force on the 1,280-face icosphere 31 / 339, 93 / 1,101, 298 / 3,689 us at 64^2, 128^2, 256^2.
-/// A ranking, not a prediction of one machine's time. `waterlineFactor` (>= 1, waterlineFactor())
-/// scales the tile hierarchy's term in R for a body whose waterline is long for its surface.
+/// load, in flat water or (`waves`) under Gerstner waves, for a mesh of T triangles at R texels a
+/// side whose waterline is `waterlineFactor` (f >= 1, waterlineFactor()) times a sphere's for its
+/// surface. Both paths visit what the waterline crosses: the exact path (a PreparedPolyhedron,
+/// what a body stepped by the controller runs) its triangles there, about f sqrt(T) of them, the
+/// texture path's tile hierarchy its tiles, about f R. In flat water 0.01 + 0.05 f sqrt(T) and
+/// 0.9 + 0.089 f R: fitted (least squares on relative error) at a body tilted 6 and 2 degrees,
+/// floating at its centre of mass, median of batches (2-core reference machine, 2026-11-28, after
+/// the flat walk's hierarchy halved across the height): exact 0.22 us (box), 0.92 (320-face hull),
+/// 2.1 (1,280-face icosphere), 7.6 (Wigley hull, 4,222, f = 2.44), 5.2 (17,160-face sphere), 7.8
+/// (20,480-face icosphere), 9.1 (32,256), 15.9 (81,920), within 25 % (mean 8 %); the hierarchy at
+/// 64^2 / 128^2 / 256^2 6.0 / 11.5 / 21.0 (box), 8.3 / 13.3 / 23.6 (hull), 9.2 / 14.9 / 25.9
+/// (icosphere), 18.9 / 33.9 / 58.5 (Wigley), 5.8 / 13.8 / 25.4 (17,160), 5.9 / 13.9 / 27.4
+/// (32,256), 10.6 / 19.5 / 36.1 (3 m log, f = 1.75), within 29 % (mean 13 %). (The earlier 0.2 +
+/// 0.13 sqrt(T) and 2 + 0.12 R, without f, put the Wigley hull's exact query at 8.6 against 7.6
+/// and its texture one at 256^2 at 33 against 58.) Under waves 30 + 0.35 sqrt(T) for the exact
+/// path (Auto prices it by its counted work instead, modeledExactMicroseconds) and 10 + 0.3 f R
+/// for the hierarchy, fitted as above under bench_peers' three waves: exact 38 us (box), 34
+/// (320-face hull), 33 (1,280-face icosphere), 144 (Wigley hull), 65 (17,160-face sphere), 90
+/// (20,480-face icosphere), 98 (32,256), 119 (65,024); the hierarchy 22-38 us at 64^2, 27-52 at
+/// 128^2, 48-92 at 256^2. The brute force, every texel: 10 + 0.0045 R^2, under waves 100 + 0.055
+/// R^2 (the 1,280-face icosphere 31 / 339, 93 / 1,101, 298 / 3,689 us at 64^2, 128^2, 256^2).
+/// A ranking, not a prediction of one machine's time.
 double modeledMicrosecondsPerQuery(HydrostaticsMethod method, std::size_t triangles, int resolution, bool waves = false,
                                    double waterlineFactor = 1.0);
 

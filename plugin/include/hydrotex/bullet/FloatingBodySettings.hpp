@@ -139,8 +139,9 @@ enum class HydrostaticsMethod {
   Polyhedral,  ///< exact clipping of the triangle mesh (any surface; waves and grids linearized between vertices)
   /// Resolved at addBody to Texture or Polyhedral (the report's `method` says which), the same way
   /// on every machine and run: by core's cost model (modeledMicrosecondsPerQuery: in flat water
-  /// the exact path 0.2 + 0.13 sqrt(triangles) us, the texture path 2 + 0.12 us a texel of side;
-  /// under waves 30 + 0.35 sqrt(triangles) and 10 + 0.3 a texel of side), the exact path when
+  /// the exact path 0.01 + 0.05 f sqrt(triangles) us, the texture path 0.9 + 0.089 f us a texel
+  /// of side, f the mesh's waterline factor; under waves the exact path's counted work at a
+  /// standard pose and 10 + 0.3 f a texel of side), the exact path when
   /// it is the cheaper and within `autoMethodError`, without measuring anything; otherwise core's
   /// advisor measures the texture path at the body's `resolution` against the exact path over 20
   /// poses in flat water (a bake), and the texture path is taken when its volume and
