@@ -5,15 +5,15 @@
 /// path's tiles are (LocalSurfaceModel.hpp, the same models, bounds and wave part). A node wholly
 /// under its model adds its summed constants and their wave part, O(1); one wholly above is
 /// skipped (a node too wide for a model within the tolerance is still skipped when wholly over a
-/// model with its wider bound, its own or a wider node's above it); a leaf the water line may cross goes triangle by triangle under
-/// the leaf's model, or, where the leaf is too wide for one, under a model for each run of its
-/// triangles whose footprint allows one (a triangle too wide alone is split into n^2 similar
-/// pieces, or, where fewer, a sliver into 2k - 1 pieces of k strips across its length, each piece
-/// with its own model). A
-/// triangle (or piece) wholly under its model adds its constants to the model's wave part; one
-/// the water line crosses is clipped where the model's depth, taken linear between corners,
-/// changes sign (WetTriangleClipping.hpp), after a split into m^2 pieces so fine that taking the
-/// model linear between their corners moves no depth by more than kExactWaveClipError. So a coarse
+/// model with its wider bound, its own or a wider node's above it); a leaf the water line may
+/// cross goes triangle by triangle under the leaf's model, or, where the leaf is too wide for
+/// one, under a model for each run of its triangles whose footprint allows one (a triangle too
+/// wide alone is split into n^2 similar pieces, or, where fewer, a sliver into 2k - 1 pieces of
+/// k strips across its length, each piece with its own model). A triangle (or piece) wholly
+/// under its model adds its constants to the model's wave part; one the water line crosses is
+/// clipped where the model's depth, taken linear between corners, changes sign
+/// (WetTriangleClipping.hpp), after a split into m^2 pieces so fine that taking the model linear
+/// between their corners moves no depth by more than kExactWaveClipError. So a coarse
 /// mesh (a box's 1 m faces) sees the waves across its faces, which the plain exact path's depths,
 /// linear between the mesh's own vertices, do not (Advisor.hpp: exactLinearizationError), and a
 /// fine one (a ship's hull) pays per triangle only along its water line.
@@ -429,11 +429,12 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     double curvature;  // model.curvatureNorm()
   };
   std::optional<Covering> covering;
-  // The model, with its wider bound, of the widest node open on the walk that had none within the
-  // tolerance: it bounds the surface over the node's subtree too, so a descendant is tested
-  // against it for lying wholly over the surface before asking a model of its own (until the walk
-  // leaves the subtree at `end`), and asks one only when its footprint is under kWideRefresh
-  // of the wide model's (its bound then at most an eighth as wide in the third-order term).
+  // The model, with its wider bound, of the nearest node open on the walk that asked one (a node
+  // with none within the tolerance): it bounds the surface over the node's subtree too, so a
+  // descendant is tested against it for lying wholly over the surface (until the walk leaves the
+  // subtree at `end`), and asks a model of its own only when its footprint is under
+  // kWideRefresh of the wide model's (its bound then at most an eighth as wide in the
+  // third-order term).
   struct Wide {
     std::size_t end;
     SurfaceModel model;
