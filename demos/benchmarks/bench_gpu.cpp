@@ -3,7 +3,9 @@
 //   hydrostatics: 1,000 bodies (sphere, 256^2 bake each), flat surface, one batched step
 //   mass: one body at 1024^2, uniform density, and with a density map uploaded each call
 //   bake / upload: the CPU's exact bake and its one-time upload (why the bake is not rasterized)
-//   waves: 100 of the bodies under three Gerstner waves, one batched step (texel by texel)
+//   waves: 100 of the bodies under three Gerstner waves, one batched step (texel by texel; the GL
+//     backend's heights from its chunks' local surface models where they reach, and again with
+//     every texel searched, GlBackendSettings::surfaceModels = false)
 //   bake vs upload vs step, 256^2 and 1024^2: bakeSurface + evaluateSurface of one body, its
 //     upload (addBody and the table rebuild its first step makes), one hydrostatics step of it
 //   wetting at 1024^2: one diffusion sub-step, and one whole liquid texture step (absorb +
@@ -166,7 +168,8 @@ int main(int argc, char** argv) {
     answers.push_back(results);
 
     // Waves: the pressure integrated texel by texel over every chunk under the crests' height
-    // (no pre-summed moments), the surface height a Newton search per texel on either backend:
+    // (no pre-summed moments); the CPU backend's heights from its tile hierarchy's local models,
+    // the GL backend's from its chunks' models where they reach, else a Newton search per texel:
     // 100 bodies keep the CPU run short.
     {
       const GerstnerWaves waves({GerstnerWave{0.3, 12.0, Eigen::Vector2d(1.0, 0.2), 0.0, 0.6},
@@ -191,6 +194,27 @@ int main(int argc, char** argv) {
       rows.push_back({name, renderer, "hydrostatics 100 x 256^2, 3 Gerstner waves", kWaveBodies,
                       kWaveBodies * small.textures.size(), wavesMs, 5, waveBytes});
       waveAnswers.push_back(waveResults);
+#if defined(HYDROTEX_WITH_GPU)
+      // The same on a GL backend that searches every texel: what the chunks' models save.
+      if (gpu::lastHydrostaticsStatistics(*backend)) {
+        gpu::GlBackendSettings perTexel;
+        perTexel.surfaceModels = false;
+        if (Expected<std::unique_ptr<ComputeBackend>> searched = gpu::makeGlBackend(perTexel)) {
+          ComputeBackend& other = **searched;
+          for (std::size_t i = 0; i < kWaveBodies; ++i)
+            if (!other.addBody(small.bake, small.textures, Eigen::Vector3d::Zero())) return 1;
+          std::vector<HydrostaticsResult> searchedResults(kWaveBodies);
+          status = other.hydrostatics(waves, some, searchedResults);  // warm-up
+          if (!status) {
+            std::fprintf(stderr, "bench_gpu: %s\n", status.error().message.c_str());
+            return 1;
+          }
+          const double searchedMs = medianMs(5, [&] { status = other.hydrostatics(waves, some, searchedResults); });
+          rows.push_back({name, renderer, "hydrostatics 100 x 256^2, 3 Gerstner waves, every texel searched", kWaveBodies,
+                          kWaveBodies * small.textures.size(), searchedMs, 5, waveBytes});
+        }
+      }
+#endif
     }
 
     const BackendBodyId id = BackendBodyId(backend->addBody(big.bake, big.textures, Eigen::Vector3d::Zero()).value());

@@ -9,7 +9,9 @@
 // 0), o = (t_x, h(centre of mass), t_z) for waves and grids, o = t for a medium. Compiled once per
 // surface kind, one of:
 //   SURFACE_GERSTNER  h' from GerstnerWaves::surfaceHeight's search (Newton, fixed-point steps
-//                     where the Jacobian is nearly singular), in float about o
+//                     where the Jacobian is nearly singular), in float about o; or, within
+//                     its reach (modelReachSquared), from the chunk's local quadratic model
+//                     about the centre of its box: one search and jet a chunk
 //   SURFACE_GRID      h' bilinear in HeightGrid's samples, clamped at the edges as HeightGrid does
 //   SURFACE_MEDIUM    no free surface: every texel wholly submerged (D = -y', Q = y'^2)
 // Two float Partials per chunk: `partials` the 11 FlatWettedSums (sumYB as Sum (Q/2 - h' D) A_y),
@@ -38,6 +40,13 @@ layout(std430, binding = 5) readonly buffer Waves { GerstnerComponent waves[]; }
 layout(std430, binding = 7) readonly buffer BodyWaves { float bodyWaves[]; };
 uniform uint waveCount;
 uniform float horizontalSum;  // sum Q A (m): scale of the search's rounding
+// Local models of the surface (issue 19 item 1, the GPU form of core's LocalSurfaceModel.hpp):
+// the quadratic Taylor model of the height about a point, from one search and jet there, stands
+// in for the search at points within modelReachSquared (m^2) of it, where its error bound
+// M3 rho^3 / 6 (M3 the bound of the height's third directional derivative, GerstnerWaves::
+// smoothness) is within the backend's tolerance (the host's figure). Negative: no models (every
+// texel searched, the per-texel answer).
+uniform float modelReachSquared;
 #elif defined(SURFACE_GRID)
 layout(std430, binding = 5) readonly buffer Heights { float gridHeights[]; };  // sample - reference (m)
 layout(std430, binding = 7) readonly buffer Frames { GridFrame frames[]; };    // per body
@@ -62,9 +71,10 @@ shared float reduction[kSums + kHeads][kGroup];
 // 1e-9 m, a height error of at most sum(k A) times that.
 float dryLevelOf(uint body) { return bodyWaves[body * (waveCount + 2u) + 1u]; }
 
+// The rest point (x0, z0) whose displaced point lies above (x, z), its height (returned) and
 // `slope` (d h / dx, d h / dz) from the same iterate: the height's gradient in the rest point
 // through the inverse of the (symmetric) Jacobian of x0 -> x, as GerstnerWaves::heightJet.
-float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
+float restPointOf(float x, float z, uint body, out vec2 rest, out vec2 slope) {
   uint base = body * (waveCount + 2u);
   float tolerance = 1.0e-6 * (abs(x) + abs(z) + horizontalSum) + 1.0e-12;
   float x0 = x, z0 = z, height = 0.0;
@@ -94,11 +104,49 @@ float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
     }
+    rest = vec2(x0, z0);  // the point the height and slope belong to
     if (abs(stepX) + abs(stepZ) < tolerance) break;
     x0 -= stepX;
     z0 -= stepZ;
   }
   return bodyWaves[base] + height;
+}
+
+float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
+  vec2 rest;
+  return restPointOf(x, z, body, rest, slope);
+}
+
+// The height with its slope and `curvature` (d2 h / dx2, dx dz, dz2) at (x, z): GerstnerWaves::
+// jetAt's sum over the waves of (-A k^2 cos - Q A k^2 sin (slope . d)) e e^T, e = J^-1 d, at the
+// search's rest point. A map that folds there (det J <= 0) gives no curvature: `valid` false.
+float surfaceJetAt(float x, float z, uint body, out vec2 slope, out vec3 curvature, out bool valid) {
+  vec2 rest;
+  float height = restPointOf(x, z, body, rest, slope);
+  uint base = body * (waveCount + 2u);
+  float jxx = 1.0, jxz = 0.0, jzz = 1.0;
+  for (uint w = 0u; w < waveCount; ++w) {
+    GerstnerComponent c = waves[w];
+    float theta = c.waveNumber * (c.dirX * rest.x + c.dirZ * rest.y) + bodyWaves[base + 2u + w];
+    float steepness = c.horizontal * c.waveNumber * cos(theta);
+    jxx -= steepness * c.dirX * c.dirX;
+    jxz -= steepness * c.dirX * c.dirZ;
+    jzz -= steepness * c.dirZ * c.dirZ;
+  }
+  float determinant = jxx * jzz - jxz * jxz;
+  curvature = vec3(0.0);
+  valid = determinant > 0.0;
+  if (!valid) return height;
+  float ixx = jzz / determinant, ixz = -jxz / determinant, izz = jxx / determinant;
+  for (uint w = 0u; w < waveCount; ++w) {
+    GerstnerComponent c = waves[w];
+    float theta = c.waveNumber * (c.dirX * rest.x + c.dirZ * rest.y) + bodyWaves[base + 2u + w];
+    float k2 = c.waveNumber * c.waveNumber;
+    float weight = -c.amplitude * k2 * cos(theta) - c.horizontal * k2 * sin(theta) * (slope.x * c.dirX + slope.y * c.dirZ);
+    float ex = ixx * c.dirX + ixz * c.dirZ, ez = ixz * c.dirX + izz * c.dirZ;
+    curvature += weight * vec3(ex * ex, ex * ez, ez * ez);
+  }
+  return height;
 }
 #elif defined(SURFACE_GRID)
 // HeightGrid::surfaceHeight about o: the grid coordinate (x - originX) / spacing split into the
@@ -136,11 +184,66 @@ float mediumHead(float y) {
 }
 #endif
 
+#if defined(SURFACE_GERSTNER)
+// A local model: its reach squared (m^2; 0: none), centre (x, z) (m), height there (m), slope,
+// and curvature (xx, xz, zz; 1/m).
+struct LocalModel {
+  float reachSquared;
+  vec2 center;
+  float height;
+  vec2 slope;
+  vec3 curvature;
+};
+
+// The model's height at (x, z) and its slope there, when (x, z) lies within its reach.
+bool modelHeightAt(LocalModel m, float x, float z, out float height, out vec2 slope) {
+  float dx = x - m.center.x, dz = z - m.center.y;
+  if (!(dx * dx + dz * dz < m.reachSquared)) return false;
+  slope = vec2(m.slope.x + m.curvature.x * dx + m.curvature.y * dz, m.slope.y + m.curvature.y * dx + m.curvature.z * dz);
+  height = m.height + m.slope.x * dx + m.slope.y * dz +
+           0.5 * (m.curvature.x * dx * dx + 2.0 * m.curvature.y * dx * dz + m.curvature.z * dz * dz);
+  return true;
+}
+
+// The model about (x, z): its height and slope there are the search's (surfaceHeightAt's); no
+// reach where models are off or the map folds there.
+LocalModel modelAbout(float x, float z, uint body) {
+  LocalModel m;
+  bool valid;
+  m.height = surfaceJetAt(x, z, body, m.slope, m.curvature, valid);
+  m.center = vec2(x, z);
+  m.reachSquared = valid && modelReachSquared > 0.0 ? modelReachSquared : 0.0;
+  return m;
+}
+
+// The chunk's model, about the centre of its box (body frame), made by its first invocation.
+shared LocalModel chunkModel;
+
+// The surface's height above (x, z) and its slope: the chunk's model within its reach (the
+// Taylor bound holds pointwise, so a chunk wider than the reach still models its texels near its
+// centre), else the search. (A model per invocation, about its last searched texel, made the
+// step slower: invocations run in lockstep, and one that searches holds up the others.)
+float modeledHeightAt(float x, float z, uint body, out vec2 slope) {
+  float height;
+  if (modelHeightAt(chunkModel, x, z, height, slope)) return height;
+  return surfaceHeightAt(x, z, body, slope);
+}
+#endif
+
 void main() {
   uint chunkIndex = crossing[listBase + gl_WorkGroupID.x];
   Chunk chunk = chunks[chunkIndex];
   BodyPose pose = poses[chunk.body];
   vec3 row0 = pose.row0.xyz, row1 = pose.row1.xyz, row2 = pose.row2.xyz;
+#if defined(SURFACE_GERSTNER)
+  if (gl_LocalInvocationID.x == 0u) {
+    vec3 boxCenter = vec3(chunk.centerX, chunk.centerY, chunk.centerZ);
+    chunkModel = LocalModel(0.0, vec2(0.0), 0.0, vec2(0.0), vec3(0.0));  // none
+    if (modelReachSquared > 0.0)
+      chunkModel = modelAbout(dot(row0, boxCenter) + pose.row0.w, dot(row2, boxCenter) + pose.row2.w, chunk.body);
+  }
+  barrier();
+#endif
 
   float sums[kSums];
   float heads[kHeads];
@@ -166,7 +269,11 @@ void main() {
     // Wholly above the surface's highest point: dry without the surface's look-up (as the CPU).
     if (y - halfSpan >= dryLevelOf(chunk.body)) continue;
     vec2 unusedSlope;
+#if defined(SURFACE_GERSTNER)
+    float localHeight = modeledHeightAt(x, z, chunk.body, unusedSlope);
+#else
     float localHeight = surfaceHeightAt(x, z, chunk.body, unusedSlope);
+#endif
     float depth = localHeight - y;
     if (!(depth > -halfSpan)) continue;  // dry (or a NaN height)
     vec3 f = waterlineFractions(depth, ea, eb);
@@ -217,7 +324,11 @@ void main() {
     float span = max(halfSpan, c.reach);  // the pieces may reach beyond the patch
     if (y - span >= dryLevelOf(chunk.body)) continue;
     vec2 slope;
+#if defined(SURFACE_GERSTNER)
+    float localHeight = modeledHeightAt(x, z, chunk.body, slope);
+#else
     float localHeight = surfaceHeightAt(x, z, chunk.body, slope);
+#endif
     float depth = localHeight - y;
     if (!(depth > -span)) continue;
     float weight = correctionWeight(depth, halfSpan, c.reach);

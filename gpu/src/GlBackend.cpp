@@ -26,6 +26,7 @@
 #include "hydrotex/gpu/GlFloodingPass.hpp"
 #include "hydrotex/gpu/GlWetting.hpp"
 #include "hydrotex/gpu/ShaderLayouts.hpp"
+#include "hydrotex/hydrostatics/TextureHydrostatics.hpp"
 
 namespace hydrotex::gpu {
 
@@ -34,6 +35,12 @@ namespace {
 using detail::GlBuffer;
 using detail::GlProgram;
 
+// The largest error bound (m) of a local surface model under Gerstner waves (hydrostatics_surface.comp):
+// a third of the CPU hierarchy's (kDefaultSurfaceModelTolerance), since a model here reaches as far
+// as its bound allows in every direction from one side of a chunk, with no averaging over a
+// symmetric footprint: at the CPU's 3e-3 m the parity case's torus and sphere were 1.1e-5 rho g V
+// off the per-texel search (test_backend_parity), at 1e-3 m 2.5e-6.
+constexpr double kGpuSurfaceModelTolerance = kDefaultSurfaceModelTolerance / 3.0;
 constexpr std::uint32_t kHydroChunkTexels = 256;  // 64 invocations x 4 texels (hydrostatics_flat.comp)
 // Hydrostatics chunks are whole bake tiles, merged while they stay under this many texels: the
 // smaller the chunk, the tighter its bounds and the fewer texels the waterline chunks read, the
@@ -161,8 +168,8 @@ class GlBackendWetting final : public BackendWetting {
 
 class GlBackend final : public ComputeBackend {
  public:
-  GlBackend(std::unique_ptr<EglContext> context, bool finalOnGpu, std::size_t segmentBytes)
-      : context_(std::move(context)), finalOnGpu_(finalOnGpu) {
+  GlBackend(std::unique_ptr<EglContext> context, bool finalOnGpu, std::size_t segmentBytes, bool chunkModels)
+      : context_(std::move(context)), finalOnGpu_(finalOnGpu), chunkModels_(chunkModels) {
     hydroStorage_.elementBytes = sizeof(layout::HydroTexel);
     hydroStorage_.capacity = std::max<std::size_t>(segmentBytes / sizeof(layout::HydroTexel), kHydroChunkTexels);
     massStorage_.elementBytes = sizeof(layout::MassTexel);
@@ -1141,6 +1148,13 @@ class GlBackend final : public ComputeBackend {
       glUseProgram(programs_.gerstner.id());
       glUniform1ui(programs_.gerstner.uniform("waveCount"), GLuint(waves.components().size()));
       glUniform1f(programs_.gerstner.uniform("horizontalSum"), float(horizontal));
+      // Local models (hydrostatics_surface.comp) reach as far as their Taylor bound M3 rho^3 / 6
+      // stays within kGpuSurfaceModelTolerance; without smoothness bounds (crests that may loop)
+      // every texel is searched.
+      const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
+      const bool modeled = chunkModels_ && smooth && std::isfinite(smooth->third) && smooth->third >= 0.0;
+      const double reach = modeled && smooth->third > 0.0 ? std::cbrt(6.0 * kGpuSurfaceModelTolerance / smooth->third) : 1e15;
+      glUniform1f(programs_.gerstner.uniform("modelReachSquared"), modeled ? float(reach * reach) : -1.0f);
     } else if (kind == SurfaceKind::Grid) {
       const auto& grid = static_cast<const HeightGrid&>(surface);
       glUseProgram(programs_.grid.id());
@@ -1393,6 +1407,7 @@ class GlBackend final : public ComputeBackend {
 
   std::unique_ptr<EglContext> context_;
   bool finalOnGpu_;
+  bool chunkModels_;  // GlBackendSettings::surfaceModels
   Programs programs_;
   SegmentedStorage hydroStorage_, massStorage_;
   std::vector<layout::Chunk> hydroChunks_, massChunks_;
@@ -1432,7 +1447,7 @@ Expected<std::unique_ptr<ComputeBackend>> makeGlBackend(std::unique_ptr<EglConte
   glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
   std::size_t segmentBytes = std::min<std::size_t>(std::size_t(maxBlock > 0 ? maxBlock : (1 << 27)), std::size_t(1) << 28);
   if (settings.segmentBytes > 0) segmentBytes = std::min(segmentBytes, settings.segmentBytes);
-  auto backend = std::make_unique<GlBackend>(std::move(context), finalOnGpu, segmentBytes);
+  auto backend = std::make_unique<GlBackend>(std::move(context), finalOnGpu, segmentBytes, settings.surfaceModels);
   if (Status s = backend->compile(); !s) return s.error();
   return std::unique_ptr<ComputeBackend>(std::move(backend));
 }

@@ -577,6 +577,56 @@ TEST_CASE("GL backend matches the CPU backend under Gerstner waves", "[backend][
   }
 }
 
+TEST_CASE("GL backend: chunks under waves take local surface models, within the per-texel answer", "[backend][gpu][surface]") {
+  // Issue 19 item 1 on the GPU: a texel within the reach of its chunk's local model (the waves'
+  // quadratic Taylor model about the centre of the chunk's box, its bound M3 rho^3 / 6 within
+  // 1e-3 m, GlBackend.cpp) takes its height from the model instead of a search. Against the same
+  // backend searching every texel (GlBackendSettings::surfaceModels = false), on the parity
+  // case's three steep waves at both of its places and times: the submerged volume within 1e-5
+  // of the body's volume (the CPU hierarchy's bound, TextureHydrostaticsSettings), the force
+  // within 1e-5 rho g V, and every quantity within the two backends' parity (checkParity).
+  // Measured on llvmpipe: at most 1.4e-6 V and 2.5e-6 rho g V (at 3e-3 m: 1.1e-5 rho g V). The
+  // answers must differ somewhere (else the models never ran and this checks nothing).
+  auto modeled = allBackends();
+  if (modeled.size() < 2) return;
+  gpu::GlBackendSettings perTexel;
+  perTexel.surfaceModels = false;
+  auto searched = allBackends(perTexel);
+  REQUIRE(searched.size() == 2);
+  addBodies(*modeled[1]);
+  addBodies(*searched[1]);
+  const GerstnerWaves waves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
+                             GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
+                             GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
+                            0.05, 1025.0);
+  int differing = 0;
+  double worstVolume = 0.0, worstForce = 0.0;
+  for (const auto& [time, shift] : {std::pair{3.7, Eigen::Vector3d(0.0, 0.0, 0.0)},
+                                    std::pair{1000.0, Eigen::Vector3d(400.0, 0.0, -250.0)}}) {
+    for (const auto& batch : shiftedBatches(time, shift)) {
+      const auto a = runBatch(*modeled[1], waves, batch);
+      const auto b = runBatch(*searched[1], waves, batch);
+      for (std::size_t i = 0; i < batch.size(); ++i) {
+        const TestBody& body = testBodies()[batch[i].body];
+        INFO(body.name << " at t = " << time << " s");
+        REQUIRE(b[i].submergedVolume > 0.0);
+        const double weight = 1025.0 * 9.81 * body.volume;
+        const double volumeError = std::abs(a[i].submergedVolume - b[i].submergedVolume) / body.volume;
+        const double forceError = (a[i].buoyancyForce - b[i].buoyancyForce).norm() / weight;
+        worstVolume = std::max(worstVolume, volumeError);
+        worstForce = std::max(worstForce, forceError);
+        CHECK(volumeError <= 1e-5);
+        CHECK(forceError <= 1e-5);
+        CHECK((a[i].centerOfBuoyancy - b[i].centerOfBuoyancy).norm() <= 1e-4 * body.size);
+        checkParity(a[i], b[i], body.size);  // and everything else as the two backends' parity
+        if (a[i].submergedVolume != b[i].submergedVolume) ++differing;
+      }
+    }
+  }
+  INFO("worst volume " << worstVolume << " V, force " << worstForce << " rho g V");
+  CHECK(differing > 0);
+}
+
 TEST_CASE("GL backend matches the CPU backend under a height grid", "[backend][parity][surface]") {
   // A smooth field sampled every 0.25 m over x in [-2, 8]: the Wigley hull (at x = 9) lies past
   // the grid's end, where HeightGrid holds the edge values (the shader's clamping), the others

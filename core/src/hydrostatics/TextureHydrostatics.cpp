@@ -157,7 +157,7 @@ Expected<TextureHydrostatics> TextureHydrostatics::build(const SurfaceBake& bake
                        : std::max(1, int(std::lround(std::sqrt(double(bake.width)) / tileSize)));
   const int groupSize = out.groupSize_;
   out.surfaceSampleSpacing_ = settings.surfaceSampleSpacing;
-  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : 3e-3;
+  out.surfaceModelTolerance_ = settings.surfaceModelTolerance > 0.0 ? settings.surfaceModelTolerance : kDefaultSurfaceModelTolerance;
   const int groupTexels = tileSize * groupSize;
   const int groupsX = (bake.width + groupTexels - 1) / groupTexels;
   const int groupsY = (bake.height + groupTexels - 1) / groupTexels;

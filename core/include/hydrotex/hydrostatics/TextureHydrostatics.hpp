@@ -50,10 +50,16 @@ struct TextureHydrostaticsSettings {
   /// tiles) is summed texel by texel with the samples' interpolated heights (the surface's own
   /// where the interpolation's bound exceeds this). The bound only widens the band of tiles
   /// visited texel by texel; the sums' error is far smaller (it averages out over a tile). 0
-  /// picks 3e-3 m, with which test_texture_hydrostatics_waves finds the submerged volume within
-  /// 1e-5 of the body's volume of the per-texel answer (3e-5 for its box).
+  /// picks kDefaultSurfaceModelTolerance (3e-3 m), with which test_texture_hydrostatics_waves
+  /// finds the submerged volume within 1e-5 of the body's volume of the per-texel answer (3e-5
+  /// for its box).
   double surfaceModelTolerance = 0.0;
 };
+
+/// The default largest error bound (m) of a local surface model under waves
+/// (TextureHydrostaticsSettings::surfaceModelTolerance = 0 picks it; the GL backend's chunks take
+/// it too: GlBackendSettings::surfaceModels).
+inline constexpr double kDefaultSurfaceModelTolerance = 3e-3;
 
 /// Per-body texture hydrostatics: texel data packed for the query and per-tile moments.
 class TextureHydrostatics {

@@ -43,6 +43,12 @@ struct GlBackendSettings {
   /// Bytes per storage buffer segment; 0: GL_MAX_SHADER_STORAGE_BLOCK_SIZE capped at 256 MiB.
   /// (Tests set it small to exercise bodies split across segments.)
   std::size_t segmentBytes = 0;
+  /// Under Gerstner waves, each chunk (up to 256 texels) takes the surface's local quadratic
+  /// model about the centre of its box, from one search and jet there, and its texels within the
+  /// model's reach (where its error bound is within 1e-3 m) take their heights from it instead
+  /// of a search each (issue 19 item 1 on the GPU); false: every texel searched (the per-texel
+  /// answer).
+  bool surfaceModels = true;
 };
 
 /// The GL backend on `context` (which it keeps and makes current on every call). Errors: shader
