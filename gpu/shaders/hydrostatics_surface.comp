@@ -73,8 +73,9 @@ float dryLevelOf(uint body) { return bodyWaves[body * (waveCount + 2u) + 1u]; }
 
 // The rest point (x0, z0) whose displaced point lies above (x, z), its height (returned) and
 // `slope` (d h / dx, d h / dz) from the same iterate: the height's gradient in the rest point
-// through the inverse of the (symmetric) Jacobian of x0 -> x, as GerstnerWaves::heightJet.
-float restPointOf(float x, float z, uint body, out vec2 rest, out vec2 slope) {
+// through the inverse of the (symmetric) Jacobian of x0 -> x, as GerstnerWaves::heightJet;
+// `jacobian` (xx, xz, zz) is that Jacobian at `rest`.
+float restPointOf(float x, float z, uint body, out vec2 rest, out vec2 slope, out vec3 jacobian) {
   uint base = body * (waveCount + 2u);
   float tolerance = 1.0e-6 * (abs(x) + abs(z) + horizontalSum) + 1.0e-12;
   float x0 = x, z0 = z, height = 0.0;
@@ -104,7 +105,8 @@ float restPointOf(float x, float z, uint body, out vec2 rest, out vec2 slope) {
       stepX = (jzz * rx - jxz * rz) / determinant;
       stepZ = (jxx * rz - jxz * rx) / determinant;
     }
-    rest = vec2(x0, z0);  // the point the height and slope belong to
+    rest = vec2(x0, z0);  // the point the height, slope and Jacobian belong to
+    jacobian = vec3(jxx, jxz, jzz);
     if (abs(stepX) + abs(stepZ) < tolerance) break;
     x0 -= stepX;
     z0 -= stepZ;
@@ -114,7 +116,8 @@ float restPointOf(float x, float z, uint body, out vec2 rest, out vec2 slope) {
 
 float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
   vec2 rest;
-  return restPointOf(x, z, body, rest, slope);
+  vec3 jacobian;
+  return restPointOf(x, z, body, rest, slope, jacobian);
 }
 
 // The height with its slope and `curvature` (d2 h / dx2, dx dz, dz2) at (x, z): GerstnerWaves::
@@ -122,17 +125,10 @@ float surfaceHeightAt(float x, float z, uint body, out vec2 slope) {
 // search's rest point. A map that folds there (det J <= 0) gives no curvature: `valid` false.
 float surfaceJetAt(float x, float z, uint body, out vec2 slope, out vec3 curvature, out bool valid) {
   vec2 rest;
-  float height = restPointOf(x, z, body, rest, slope);
+  vec3 j;
+  float height = restPointOf(x, z, body, rest, slope, j);
   uint base = body * (waveCount + 2u);
-  float jxx = 1.0, jxz = 0.0, jzz = 1.0;
-  for (uint w = 0u; w < waveCount; ++w) {
-    GerstnerComponent c = waves[w];
-    float theta = c.waveNumber * (c.dirX * rest.x + c.dirZ * rest.y) + bodyWaves[base + 2u + w];
-    float steepness = c.horizontal * c.waveNumber * cos(theta);
-    jxx -= steepness * c.dirX * c.dirX;
-    jxz -= steepness * c.dirX * c.dirZ;
-    jzz -= steepness * c.dirZ * c.dirZ;
-  }
+  float jxx = j.x, jxz = j.y, jzz = j.z;
   float determinant = jxx * jzz - jxz * jxz;
   curvature = vec3(0.0);
   valid = determinant > 0.0;

@@ -538,6 +538,15 @@ void checkParity(const HydrostaticsResult& gl, const HydrostaticsResult& cpu, do
   CHECK((gl.stiffness - cpu.stiffness).norm() <= 1e-4 * cpu.stiffness.norm());
 }
 
+// Three crossing waves, steep enough (sum Q k A = 0.28) that the rest-point search takes several
+// Newton steps.
+GerstnerWaves steepWaves() {
+  return GerstnerWaves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
+                        GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
+                        GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
+                       0.05, 1025.0);
+}
+
 // The batches of poseBatches at `time` (s), moved by `shift` (m).
 std::vector<std::vector<BackendHydrostaticsQuery>> shiftedBatches(double time, const Eigen::Vector3d& shift) {
   auto batches = poseBatches();
@@ -552,17 +561,14 @@ std::vector<std::vector<BackendHydrostaticsQuery>> shiftedBatches(double time, c
 }  // namespace
 
 TEST_CASE("GL backend matches the CPU backend under Gerstner waves", "[backend][parity][surface]") {
-  // Three crossing waves, steep enough (sum Q k A = 0.38) that the rest-point search takes several
-  // Newton steps; near the origin at t = 3.7 s, then 400 m away at t = 1000 s, where the phases
-  // k d . x - omega t reach thousands of radians (the GL backend reduces them about each body's
-  // frame origin in double: its float search then works with the body's own metres).
+  // The steep waves (steepWaves): near the origin at t = 3.7 s, then 400 m away at t = 1000 s,
+  // where the phases k d . x - omega t reach thousands of radians (the GL backend reduces them
+  // about each body's frame origin in double: its float search then works with the body's own
+  // metres).
   auto backends = allBackends();
   if (backends.size() < 2) return;
   for (auto& backend : backends) addBodies(*backend);
-  const GerstnerWaves waves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
-                             GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
-                             GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
-                            0.05, 1025.0);
+  const GerstnerWaves waves = steepWaves();
   for (const auto& [time, shift] : {std::pair{3.7, Eigen::Vector3d(0.0, 0.0, 0.0)},
                                     std::pair{1000.0, Eigen::Vector3d(400.0, 0.0, -250.0)}}) {
     for (const auto& batch : shiftedBatches(time, shift)) {
@@ -595,10 +601,7 @@ TEST_CASE("GL backend: chunks under waves take local surface models, within the 
   REQUIRE(searched.size() == 2);
   addBodies(*modeled[1]);
   addBodies(*searched[1]);
-  const GerstnerWaves waves({GerstnerWave{0.15, 6.0, Eigen::Vector2d(1.0, 0.3), 0.4, 0.6},
-                             GerstnerWave{0.08, 3.5, Eigen::Vector2d(-0.4, 1.0), 1.3, 0.8},
-                             GerstnerWave{0.05, 2.2, Eigen::Vector2d(0.7, -0.7), 2.0, 0.5}},
-                            0.05, 1025.0);
+  const GerstnerWaves waves = steepWaves();
   int differing = 0;
   double worstVolume = 0.0, worstForce = 0.0;
   for (const auto& [time, shift] : {std::pair{3.7, Eigen::Vector3d(0.0, 0.0, 0.0)},
