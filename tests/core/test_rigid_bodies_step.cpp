@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Zlib
 // Core's phased step of many rigid bodies (RigidBodiesStep.hpp): each body's answer is the one
-// stepRigidBody gives it alone with its own hydrostatics (bit for bit: the same operations), the
+// stepRigidBody gives it alone with its own hydrostatics (bit for bit: the same operations; under
+// waves an exact body's drag reads its query's jets, within the drag's height error), the
 // plan's closed forms (free fall above the liquid, nothing for a sleeping or static body), one
 // backend batch a step with the drag run while it is in flight, a failed batch asked again body by
 // body, and the same bits for any thread count or order.
@@ -11,12 +12,15 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <span>
 #include <thread>
 #include <vector>
 
 #include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
+#include "hydrotex/hydrostatics/PreparedPolyhedron.hpp"
 #include "hydrotex/hydrostatics/TexelDrag.hpp"
 #include "hydrotex/mass/MassProperties.hpp"
 #include "hydrotex/mesh/Primitives.hpp"
@@ -266,5 +270,95 @@ TEST_CASE("the same bits for any thread count and order", "[step][bodies]") {
     REQUIRE(serial[i].step);
     REQUIRE(threaded[i].step);
     CHECK(sameBits(*serial[i].step, *threaded[i].step));
+  }
+}
+
+namespace {
+
+// peers_waves' three Gerstner waves (data/scenes/peers_waves.json), counting the jets asked of them.
+class CountingWaves final : public LiquidSurface {
+ public:
+  GerstnerWaves waves{{GerstnerWave{0.10, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5},
+                       GerstnerWave{0.05, 5.0, Eigen::Vector2d(0.6, 0.8), 1.0, 0.5},
+                       GerstnerWave{0.02, 2.3, Eigen::Vector2d(-0.3, 1.0), 2.0, 0.3}},
+                      0.0, 1000.0};
+  mutable std::size_t jets = 0;
+
+  double surfaceHeight(double x, double z, double time) const override { return waves.surfaceHeight(x, z, time); }
+  void surfaceHeights(std::span<const double> x, std::span<const double> z, double time,
+                      std::span<double> out) const override {
+    waves.surfaceHeights(x, z, time, out);
+  }
+  Eigen::Vector3d velocity(const Eigen::Vector3d& p, double time) const override { return waves.velocity(p, time); }
+  Eigen::Vector3d velocityBelow(const Eigen::Vector3d& p, double surface, double time) const override {
+    return waves.velocityBelow(p, surface, time);
+  }
+  void velocitiesBelow(std::span<const Eigen::Vector3d> points, std::span<const double> surfaces, double time,
+                       std::span<Eigen::Vector3d> out) const override {
+    waves.velocitiesBelow(points, surfaces, time, out);
+  }
+  double density() const override { return waves.density(); }
+  std::pair<double, double> heightRange(double time) const override { return waves.heightRange(time); }
+  std::optional<SurfaceJet> heightJet(double x, double z, double time) const override {
+    ++jets;
+    return waves.heightJet(x, z, time);
+  }
+  void heightJets(std::span<const double> x, std::span<const double> z, double time,
+                  std::span<std::optional<SurfaceJet>> out) const override {
+    jets += x.size();
+    waves.heightJets(x, z, time, out);
+  }
+  std::optional<SurfaceSmoothness> smoothness(double time) const override { return waves.smoothness(time); }
+  Status validate() const override { return waves.validate(); }
+};
+
+}  // namespace
+
+TEST_CASE("under waves an exact body's drag reads the jets its query sampled", "[step][bodies][waves]") {
+  // A prepared box on the exact path under three waves: its query samples a grid of surface jets
+  // (~150 ns each) for its local models; its drag, summed after it, interpolates the heights
+  // above its patches from that grid instead of sampling a grid of its own.
+  BoxWorld world;
+  const DragBody drag = world.dragBody();
+  CountingWaves sea;
+  const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(world.box));
+  REQUIRE(prepared);
+  RigidBodiesStep stepper;
+  for (int pose = 0; pose < 4; ++pose) {
+    INFO("pose " << pose);
+    RigidBodyTask task = world.task(-0.05 + 0.04 * pose, 0.15 * pose - 0.2, false, nullptr);
+    task.exactMesh = nullptr;
+    task.exactPrepared = &*prepared;
+    task.input.liquid = DragLiquid{&sea, Eigen::Vector3d::Zero(), 1.0e-3, 1.3 + 0.7 * pose};
+    std::vector<RigidBodyTaskResult> results(1);
+
+    sea.jets = 0;
+    stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
+    const std::size_t buoyancyJets = sea.jets;
+    REQUIRE(results[0].step);
+
+    task.input.drag = &drag;
+    sea.jets = 0;
+    stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
+    const std::size_t bothJets = sea.jets;
+    REQUIRE(results[0].step);
+    CHECK(results[0].counters.dragPasses == 1);
+    CHECK(results[0].counters.dragPatchesVisited > 0);
+
+    sea.jets = 0;
+    const DragLoads own = rigidBodyDrag(drag, task.motion, task.input.liquid, kDt);
+    const std::size_t dragAloneJets = sea.jets;
+    // The drag alone samples a grid of its own (tens of jets); after the query it asks none.
+    CHECK(dragAloneJets >= 10);
+    CHECK(bothJets == buoyancyJets);
+    // Both grids interpolate the surface within the drag's height error (1e-4 m; the query's
+    // within a thirtieth of its model tolerance, 3.3e-5 m): a patch's wet fraction, a ramp as
+    // wide as its radius (0.1 m here), moves by at most 1.3e-4 / 0.2, and the orbital velocity
+    // below the surface, exp(k (y - eta)), by k 1.3e-4 (k <= 2.7 1/m): under 1e-3 of the force,
+    // and of the torque with that force's share at a lever of 1 m (the box reaches 0.75 m).
+    const DragLoads& shared = results[0].step->drag;
+    CHECK((shared.force - own.force).norm() <= 1e-3 * own.force.norm());
+    CHECK((shared.torque - own.torque).norm() <= 1e-3 * own.torque.norm() + 1e-3 * own.force.norm());
+    CHECK(shared.force != own.force);  // the heights came from another grid
   }
 }

@@ -190,21 +190,28 @@ class LocalSurfaceModels {
   /// of `tolerance` (m) allows (s^4 = 384 e / (2 M4), hermiteError): the curvature's share of a
   /// part's bound then stays under the tolerance (bench_hydrostatics: closer samples cost more
   /// surface evaluations than the parts they let through save).
+  /// The grid lives in `keep` when given (the caller's, which outlives the models: the same
+  /// body's drag reads its samples after the query, RigidBodiesStep.cpp), else in the models.
   LocalSurfaceModels(const LiquidSurface& surface, double time, const Eigen::Vector3d& origin,
                      const SurfaceSmoothness& smooth, double lowX, double highX, double lowZ, double highZ,
-                     double tolerance, double spacing, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& offset)
+                     double tolerance, double spacing, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& offset,
+                     std::optional<SurfaceJetGrid>* keep = nullptr)
       : smooth_(smooth),
         tolerance_(tolerance),
         originHeight_(origin.y()),
-        grid_(surface, time, origin.x(), origin.z(), lowX, highX, lowZ, highZ,
-              std::min(spacing > 0.0 ? spacing : spacingForHeightError(tolerance / 30.0, smooth.fourth),
-                       std::max(highX - lowX, highZ - lowZ))),
+        grid_((keep ? *keep : own_)
+                  .emplace(surface, time, origin.x(), origin.z(), lowX, highX, lowZ, highZ,
+                           std::min(spacing > 0.0 ? spacing : spacingForHeightError(tolerance / 30.0, smooth.fourth),
+                                    std::max(highX - lowX, highZ - lowZ)))),
         interpolation_(hermiteError(grid_.spacing(), smooth.fourth)),
         rotation_(rotation),
         offset_(offset),
         xRow_(rotation.row(0).transpose()),
         yRow_(rotation.row(1).transpose()),
         zRow_(rotation.row(2).transpose()) {}
+
+  LocalSurfaceModels(const LocalSurfaceModels&) = delete;
+  LocalSurfaceModels& operator=(const LocalSurfaceModels&) = delete;
 
   /// The jets' interpolant (heights and jets between models).
   SurfaceJetGrid& grid() { return grid_; }
@@ -314,7 +321,8 @@ class LocalSurfaceModels {
 
   SurfaceSmoothness smooth_;
   double tolerance_, originHeight_;
-  SurfaceJetGrid grid_;
+  std::optional<SurfaceJetGrid> own_;  // the grid, unless the caller keeps it
+  SurfaceJetGrid& grid_;
   HermiteError interpolation_;
   Eigen::Matrix3d rotation_;
   Eigen::Vector3d offset_, xRow_, yRow_, zRow_;

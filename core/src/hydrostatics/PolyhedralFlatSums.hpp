@@ -25,6 +25,8 @@
 
 namespace hydrotex::detail {
 
+class SurfaceJetGrid;  // SurfaceJetGrid.hpp
+
 /// What a triangle (counter-clockwise seen from outside, body frame) brings to the sums when it is
 /// wholly wet, independent of the pose: area vector A = (b - a) x (c - a) / 2 (m^2), area |A|
 /// (m^2), centroid (m) and Int p p^T dA / |T| (m^2; xx, xy, xz, yy, yz, zz: the mean over the edge
@@ -134,11 +136,14 @@ Expected<HydrostaticsResult> flatPolyhedralHydrostatics(const Mesh& mesh, const 
 /// smoothness bounds (Gerstner waves): its triangle nodes against local surface models
 /// (PolyhedralHydrostaticsWaves.cpp), the query already validated. Empty when the surface offers
 /// no bounds (height grids: the caller takes the plain path). Errors: a surface height that is
-/// not finite, a non-finite result. `work`, when given, receives what it did.
+/// not finite, a non-finite result. `work`, when given, receives what it did; `keep`, when given,
+/// the grid of surface jets its models were interpolated from (SurfaceJetGrid.hpp), for the same
+/// body's drag after it.
 std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
                                                                        const PreparedTriangles& prepared,
                                                                        const LiquidSurface& surface,
                                                                        const HydrostaticsQuery& query,
-                                                                       ExactWaveWork* work = nullptr);
+                                                                       ExactWaveWork* work = nullptr,
+                                                                       std::optional<SurfaceJetGrid>* keep = nullptr);
 
 }  // namespace hydrotex::detail

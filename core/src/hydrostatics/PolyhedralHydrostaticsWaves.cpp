@@ -177,7 +177,8 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
                                                                        const PreparedTriangles& prepared,
                                                                        const LiquidSurface& surface,
                                                                        const HydrostaticsQuery& query,
-                                                                       ExactWaveWork* work) {
+                                                                       ExactWaveWork* work,
+                                                                       std::optional<SurfaceJetGrid>* keep) {
   const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
   if (!smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) || !std::isfinite(smooth->third) ||
       !std::isfinite(smooth->fourth) || prepared.nodes.empty())
@@ -203,7 +204,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   axisRange(rootCenter, rootHalf, r, 0, offset.x(), lowX, highX);
   axisRange(rootCenter, rootHalf, r, 2, offset.z(), lowZ, highZ);
   LocalSurfaceModels models(surface, query.time, origin, *smooth, lowX, highX, lowZ, highZ,
-                            kExactSurfaceModelTolerance, 0.0, r, offset);
+                            kExactSurfaceModelTolerance, 0.0, r, offset, keep);
   WettedSums sums;
   bool surfaceFailed = false;  // a corner's height from the surface itself was not finite
   ExactWaveWork done;          // what the walk does (`work`)

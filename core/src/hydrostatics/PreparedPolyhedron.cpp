@@ -14,6 +14,7 @@
 #include <string>
 
 #include "hydrostatics/PolyhedralFlatSums.hpp"
+#include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
 namespace hydrotex {
@@ -201,18 +202,35 @@ std::size_t PreparedPolyhedron::memoryBytes() const {
   return bytes(*triangles_) + (flatTriangles_ != triangles_ ? bytes(*flatTriangles_) : 0);
 }
 
-Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
-                                                    const HydrostaticsQuery& query, ExactWaveWork* work) {
+namespace {
+// polyhedralHydrostatics, keeping the jets of a query under waves in `keep` when given.
+Expected<HydrostaticsResult> preparedHydrostatics(const Mesh& mesh, const detail::PreparedTriangles& triangles,
+                                                  const detail::PreparedTriangles* flatTriangles,
+                                                  const LiquidSurface& surface, const HydrostaticsQuery& query,
+                                                  ExactWaveWork* work, std::optional<detail::SurfaceJetGrid>* keep) {
   if (work) *work = ExactWaveWork{};
   const std::optional<double> flat = surface.flatHeight();
   if (Status valid = validateHydrostaticsQuery(surface, query); !valid) return valid.error();
   if (!flat && surface.hasFreeSurface())
     if (std::optional<Expected<HydrostaticsResult>> waves =
-            detail::wavePolyhedralHydrostatics(*body.mesh_, *body.triangles_, surface, query, work))
+            detail::wavePolyhedralHydrostatics(mesh, triangles, surface, query, work, keep))
       return std::move(*waves);
-  if (!flat) return polyhedralHydrostaticsUnchecked(*body.mesh_, surface, query);
-  return detail::flatPolyhedralHydrostatics(*body.mesh_, body.flatTriangles_.get(), *flat, surface.density(), query,
+  if (!flat) return polyhedralHydrostaticsUnchecked(mesh, surface, query);
+  return detail::flatPolyhedralHydrostatics(mesh, flatTriangles, *flat, surface.density(), query,
                                             work ? &work->nodes : nullptr);
+}
+}  // namespace
+
+Expected<HydrostaticsResult> detail::polyhedralHydrostaticsKeepingJets(const PreparedPolyhedron& body,
+                                                                       const LiquidSurface& surface,
+                                                                       const HydrostaticsQuery& query,
+                                                                       std::optional<SurfaceJetGrid>& keep) {
+  return preparedHydrostatics(*body.mesh_, *body.triangles_, body.flatTriangles_.get(), surface, query, nullptr, &keep);
+}
+
+Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
+                                                    const HydrostaticsQuery& query, ExactWaveWork* work) {
+  return preparedHydrostatics(*body.mesh_, *body.triangles_, body.flatTriangles_.get(), surface, query, work, nullptr);
 }
 
 }  // namespace hydrotex

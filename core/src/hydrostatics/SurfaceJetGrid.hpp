@@ -41,6 +41,18 @@ class SurfaceJetGrid {
   double spacing() const { return spacing_; }
   /// Jets asked of the surface so far.
   std::size_t sampled() const { return sampled_; }
+  /// The surface and the time (s) its jets are of.
+  const LiquidSurface& surface() const { return surface_; }
+  double time() const { return time_; }
+  /// The frame's origin (m, world x and z): local points are world points less it.
+  double originX() const { return originX_; }
+  double originZ() const { return originZ_; }
+  /// Whether the local point (x, z) (m) lies within the samples, or within `margin` (m) of them
+  /// (a point outside is clamped onto the grid's edge, not interpolated).
+  bool contains(double x, double z, double margin) const {
+    return x >= lowX_ - margin && z >= lowZ_ - margin && x <= lowX_ + (sideX_ - 1) * spacing_ + margin &&
+           z <= lowZ_ + (sideZ_ - 1) * spacing_ + margin;
+  }
 
   /// Interpolated height alone (m, world) at the local point (x, z) (m, relative to the origin;
   /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
@@ -273,28 +285,46 @@ struct Footprint {
 /// grid takes fewer than `maxSamples` samples, else asked per point. Lives on the stack.
 class SurfaceHeights {
  public:
+  /// `shared`, when given, is a grid of the same surface and time that an earlier query of the
+  /// same body sampled (the exact path's, RigidBodiesStep.cpp): taken instead of a grid of its own
+  /// where its spacing keeps `heightError`, so that its samples serve again; a point it does not
+  /// cover (kSharedMargin) asks the surface itself.
   SurfaceHeights(const LiquidSurface& surface, double time, const Footprint& footprint, double heightError,
-                 double maxSamples = INFINITY)
+                 double maxSamples = INFINITY, SurfaceJetGrid* shared = nullptr)
       : surface_(surface), time_(time), originX_(footprint.lowX), originZ_(footprint.lowZ) {
     const double width = footprint.highX - footprint.lowX, depth = footprint.highZ - footprint.lowZ;
     if (!std::isfinite(width + depth + originX_ + originZ_) || !(width >= 0.0) || !(depth >= 0.0)) return;  // empty
     const std::optional<SurfaceSmoothness> smooth = surface.smoothness(time);
     if (!smooth || !std::isfinite(smooth->fourth) || !(smooth->fourth >= 0.0)) return;
+    if (shared && &shared->surface() == &surface && shared->time() == time &&
+        hermiteError(shared->spacing(), smooth->fourth).height <= heightError) {
+      grid_ = shared;
+      originX_ = shared->originX();
+      originZ_ = shared->originZ();
+      return;
+    }
     const double spacing = std::min(spacingForHeightError(heightError, smooth->fourth), std::max(width, depth));
     if (!(spacing > 0.0)) return;
     const double samples = (std::ceil(width / spacing) + 1.0) * (std::ceil(depth / spacing) + 1.0);
     if (!(samples < maxSamples)) return;
-    grid_.emplace(surface, time, originX_, originZ_, 0.0, width, 0.0, depth, spacing);
+    grid_ = &own_.emplace(surface, time, originX_, originZ_, 0.0, width, 0.0, depth, spacing);
     // kMaxSide samples a side may not meet the bound over a wide footprint: then per point.
-    if (!(hermiteError(grid_->spacing(), smooth->fourth).height <= heightError)) grid_.reset();
+    if (!(hermiteError(grid_->spacing(), smooth->fourth).height <= heightError)) {
+      own_.reset();
+      grid_ = nullptr;
+    }
   }
+  SurfaceHeights(const SurfaceHeights&) = delete;
+  SurfaceHeights& operator=(const SurfaceHeights&) = delete;
 
   /// Whether the heights are interpolated (false: each point asks the surface).
-  bool interpolated() const { return grid_.has_value(); }
+  bool interpolated() const { return grid_ != nullptr; }
+  /// Whether they come from the grid handed to the constructor.
+  bool sharedGrid() const { return grid_ != nullptr && !own_; }
 
   /// Marks the samples that at(x, z) (world, m) will need, for sampleMarked() (interpolated only).
   void mark(double x, double z) {
-    if (grid_) grid_->mark(x - originX_, z - originZ_);
+    if (grid_ && covered(x, z)) grid_->mark(x - originX_, z - originZ_);
   }
   /// Samples what mark() marked, in as few calls of the surface as SurfaceJetGrid::sampleMarked.
   void sampleMarked() {
@@ -304,7 +334,7 @@ class SurfaceHeights {
   /// Height (m, world) of the surface above the world point (x, z).
   double at(double x, double z) {
     double height;
-    if (grid_ && grid_->height(x - originX_, z - originZ_, height)) return height;
+    if (grid_ && covered(x, z) && grid_->height(x - originX_, z - originZ_, height)) return height;
     return surface_.surfaceHeight(x, z, time_);
   }
 
@@ -319,9 +349,18 @@ class SurfaceHeights {
   }
 
  private:
+  // How far (m) outside a shared grid a point may lie and still take its edge's samples: the
+  // rounding of drag's single-precision patch positions on a mesh whose bounds the grid covers.
+  static constexpr double kSharedMargin = 1e-6;
+  // Whether the world point (x, z) takes the grid (an own grid covers its footprint).
+  bool covered(double x, double z) const {
+    return own_.has_value() || grid_->contains(x - originX_, z - originZ_, kSharedMargin);
+  }
+
   const LiquidSurface& surface_;
   double time_, originX_, originZ_;
-  std::optional<SurfaceJetGrid> grid_;
+  std::optional<SurfaceJetGrid> own_;
+  SurfaceJetGrid* grid_ = nullptr;  // own_'s, a shared one, or none (per point)
 };
 
 }  // namespace hydrotex::detail

@@ -6,9 +6,12 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
+#include "hydrostatics/SurfaceJetGrid.hpp"
+#include "step/RigidBodyDragWithJets.hpp"
 
 namespace hydrotex {
 namespace {
@@ -144,9 +147,16 @@ void RigidBodiesStep::plan(const Batch& batch) {
   }
 }
 
+bool RigidBodiesStep::dragAfterExactQuery(const Batch& batch, std::size_t i) const {
+  const RigidBodyTask& task = batch.tasks[i];
+  return task.input.drag != nullptr && queryOfBody_[i] == kNoQuery && asksHydrostatics(task) &&
+         task.exactPrepared != nullptr && !batch.surface.flatHeight().has_value() && batch.surface.hasFreeSurface();
+}
+
 void RigidBodiesStep::sumDrag(const Batch& batch, std::size_t i) {
   const RigidBodyTask& task = batch.tasks[i];
   if (batch.results[i].plan != RigidBodyPlan::Computed || task.input.drag == nullptr) return;
+  if (dragAfterExactQuery(batch, i)) return;  // summed in update(), on its query's jets
   drag_[i] = rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt);
 }
 
@@ -156,7 +166,12 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
   if (result.plan != RigidBodyPlan::Computed) return;
   RigidBodyStepCounters& counters = result.counters;
   // Hydrostatics: the backend's answer for a texture body, the exact path here for the others.
+  // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is summed
+  // here, after it, reading its heights from them (the drag's own grid took 30-36 jets on
+  // bench_peers' box and hull under its three waves, ~150 ns each).
   bool haveHydrostatics = false;
+  const bool dragAfterQuery = dragAfterExactQuery(batch, i);
+  std::optional<detail::SurfaceJetGrid> jets;
   if (asksHydrostatics(task)) {
     if (queryOfBody_[i] != kNoQuery) {
       const std::size_t q = queryOfBody_[i];
@@ -172,7 +187,9 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
       const bool closedForm = task.sphereRadius && batch.surface.flatHeight().has_value();
       if (Expected<HydrostaticsResult> exact =
               closedForm                       ? sphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), batch.surface, query)
-              : task.exactPrepared != nullptr ? polyhedralHydrostatics(*task.exactPrepared, batch.surface, query)
+              : task.exactPrepared != nullptr
+                  ? (dragAfterQuery ? detail::polyhedralHydrostaticsKeepingJets(*task.exactPrepared, batch.surface, query, jets)
+                                    : polyhedralHydrostatics(*task.exactPrepared, batch.surface, query))
               : task.exactMesh != nullptr     ? polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, query)
                                               : Expected<HydrostaticsResult>(Error{"no mesh for the exact path"})) {
         result.hydrostatics = *exact;
@@ -181,6 +198,8 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
     }
     if (!haveHydrostatics) ++counters.failedQueries;
   }
+  if (dragAfterQuery)
+    drag_[i] = detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt, jets ? &*jets : nullptr);
   RigidBodyStepInput input = task.input;
   input.hydrostatics = haveHydrostatics ? &result.hydrostatics : nullptr;
   input.dragLoads = input.drag != nullptr ? &drag_[i] : nullptr;

@@ -21,6 +21,7 @@
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
 #include "step/DragLanes.hpp"
+#include "step/RigidBodyDragWithJets.hpp"
 
 namespace hydrotex {
 namespace {
@@ -294,6 +295,11 @@ DragPatchSet prepareDragPatches(std::span<const DragPatch> patches, std::size_t 
 }
 
 DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid, double dt) {
+  return detail::rigidBodyDrag(body, motion, liquid, dt, nullptr);
+}
+
+DragLoads detail::rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid, double dt,
+                                SurfaceJetGrid* jets) {
   DragLoads out;
   const LiquidSurface& surface = *liquid.surface;
   const Eigen::Matrix3d& rotation = motion.meshPose.rotation;
@@ -331,7 +337,7 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
   const bool waves = freeSurface && !flatLevel;
   const double highestCrest = waves ? surface.heightRange(liquid.time).second - translation.y() : INFINITY;
   detail::SurfaceHeights heights(surface, liquid.time, waves ? dragFootprint(set, rotation, translation) : detail::Footprint{},
-                                 detail::kDragSurfaceHeightError);
+                                 detail::kDragSurfaceHeightError, INFINITY, waves ? jets : nullptr);
   // The grid's samples that the patches below the highest crest need, asked of the surface at
   // once, each started from the last (drag probe on peers_waves: box 36 -> 30 jets, 10.66 ->
   // 10.56 us; hull 36 -> 23 jets, 11.9 -> 11.3 us). The patches are posed here and again below:

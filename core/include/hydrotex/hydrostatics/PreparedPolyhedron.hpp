@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -26,9 +27,20 @@
 
 namespace hydrotex {
 
+class PreparedPolyhedron;
+struct ExactWaveWork;
+
 namespace detail {
 struct PreparedTriangles;  // core/src/hydrostatics/PolyhedralFlatSums.hpp
-}
+class SurfaceJetGrid;      // core/src/hydrostatics/SurfaceJetGrid.hpp
+/// polyhedralHydrostatics (below) that, under waves, leaves the grid of surface jets its models
+/// were interpolated from in `keep`: private to core, for the same body's drag after it
+/// (RigidBodiesStep.cpp), which reads heights there instead of sampling a grid of its own.
+Expected<HydrostaticsResult> polyhedralHydrostaticsKeepingJets(const PreparedPolyhedron& body,
+                                                               const LiquidSurface& surface,
+                                                               const HydrostaticsQuery& query,
+                                                               std::optional<SurfaceJetGrid>& keep);
+}  // namespace detail
 
 /// What one exact query on a prepared mesh did under a surface with smoothness bounds (Gerstner
 /// waves), counted: the work HydrostaticsMethod::Auto prices (modeledExactMicroseconds,
@@ -62,6 +74,10 @@ class PreparedPolyhedron {
  private:
   friend Expected<HydrostaticsResult> polyhedralHydrostatics(const PreparedPolyhedron& body, const LiquidSurface& surface,
                                                              const HydrostaticsQuery& query, ExactWaveWork* work);
+  friend Expected<HydrostaticsResult> detail::polyhedralHydrostaticsKeepingJets(const PreparedPolyhedron& body,
+                                                                                const LiquidSurface& surface,
+                                                                                const HydrostaticsQuery& query,
+                                                                                std::optional<detail::SurfaceJetGrid>& keep);
   std::shared_ptr<const Mesh> mesh_;
   // Every triangle once, in leaves' order, in two hierarchies: the one waves walk, halved across
   // the longest side, and the one flat water walks, halved across the height first

@@ -83,8 +83,8 @@ struct RigidBodiesStepStatistics {
   std::uint64_t backendBatches = 0;  ///< hydrostatics batches asked of the backend, each read back once
   double planSeconds = 0.0;          ///< the serial plan
   double backendSeconds = 0.0;       ///< in the backend's batch calls, less the drag run meanwhile
-  double dragSeconds = 0.0;          ///< the drag of every body (overlapping a GPU's batch)
-  double updateSeconds = 0.0;        ///< the exact path's queries and the implicit updates
+  double dragSeconds = 0.0;          ///< the drag of the bodies summed beside the batch (overlapping a GPU's)
+  double updateSeconds = 0.0;        ///< the exact path's queries (with their drag under waves) and the implicit updates
 };
 
 /// The phased step of many rigid bodies, with the room it works in kept between steps (a step
@@ -97,7 +97,10 @@ class RigidBodiesStep {
   /// `parallelFor` while `backend` answers one hydrostatics batch for the texture bodies (a GPU
   /// overlaps the two; a failed batch is asked again body by body, so that one bad body does not
   /// cost the others their buoyancy), then the exact path's queries and stepRigidBody through
-  /// `parallelFor` (empty: in order). Each result depends only on its own task, so the results are
+  /// `parallelFor` (empty: in order). Under waves (a surface that is neither flat nor a medium) a
+  /// body on the prepared exact path has its drag summed after its query instead, reading the
+  /// surface's heights from the jets the query sampled (within the drag's height error, 1e-4 m)
+  /// rather than sampling its own. Each result depends only on its own task, so the results are
   /// the same for every thread count. Writes min(tasks.size(), results.size()) results. Never
   /// throws; failures are counted in each body's counters.
   RigidBodiesStepStatistics run(ComputeBackend& backend, const LiquidSurface& surface,
@@ -108,6 +111,9 @@ class RigidBodiesStep {
   struct Batch;
   void plan(const Batch& batch);
   void sumDrag(const Batch& batch, std::size_t i);
+  /// Whether body i's drag is summed in update() after its exact query under waves, on the jets
+  /// that query sampled, rather than beside the backend's batch.
+  bool dragAfterExactQuery(const Batch& batch, std::size_t i) const;
   void update(const Batch& batch, std::size_t i);
 
   static constexpr std::size_t kNoQuery = ~std::size_t{0};
