@@ -138,12 +138,12 @@ void RigidBodiesStep::plan(const Batch& batch) {
       result.step = fall;
       continue;
     }
-    anyDrag_ = anyDrag_ || task.input.drag != nullptr;
     if (task.backendBody && asksHydrostatics(task)) {
       ++result.counters.hydrostaticsQueries;
       queryOfBody_[i] = queries_.size();
       queries_.push_back(BackendHydrostaticsQuery{*task.backendBody, queryOf(task)});
     }
+    anyDrag_ = anyDrag_ || (task.input.drag != nullptr && !dragAfterExactQuery(batch, i));
   }
 }
 
@@ -167,7 +167,7 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
   RigidBodyStepCounters& counters = result.counters;
   // Hydrostatics: the backend's answer for a texture body, the exact path here for the others.
   // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is summed
-  // here, after it, reading its heights from them (the drag's own grid took 30-36 jets on
+  // here, after it, reading its heights from them (the drag's own grid took 23-36 jets on
   // bench_peers' box and hull under its three waves, ~150 ns each).
   bool haveHydrostatics = false;
   const bool dragAfterQuery = dragAfterExactQuery(batch, i);

@@ -122,7 +122,7 @@ class RigidBodiesStep {
   std::vector<HydrostaticsResult> answers_;        ///< the backend's answers, by query
   std::vector<char> answered_;                     ///< by query: the answer is valid
   std::vector<DragLoads> drag_;                    ///< by body: this step's drag
-  bool anyDrag_ = false;                           ///< a computed body lists drag this step
+  bool anyDrag_ = false;                           ///< a computed body's drag is summed beside the batch this step
 };
 
 }  // namespace hydrotex
