@@ -319,8 +319,6 @@ class SurfaceHeights {
 
   /// Whether the heights are interpolated (false: each point asks the surface).
   bool interpolated() const { return grid_ != nullptr; }
-  /// Whether they come from the grid handed to the constructor.
-  bool sharedGrid() const { return grid_ != nullptr && !own_; }
 
   /// Marks the samples that at(x, z) (world, m) will need, for sampleMarked() (interpolated only).
   void mark(double x, double z) {
