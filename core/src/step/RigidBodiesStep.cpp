@@ -41,6 +41,25 @@ HydrostaticsQuery queryOf(const RigidBodyTask& task) {
   return query;
 }
 
+// Body `task`'s hydrostatics on the exact path (or a sphere's closed form) into `out`; false when
+// the query fails. With `jets`, a prepared body's query keeps the surface jets it sampled there.
+bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
+                       std::optional<detail::SurfaceJetGrid>* jets, HydrostaticsResult& out) {
+  const HydrostaticsQuery query = queryOf(task);
+  // A sphere in flat water in closed form; the prepared mesh gives the mesh's own answer
+  // (PreparedPolyhedron.hpp), faster, and under waves models the surface over its triangles.
+  const bool closedForm = task.sphereRadius && surface.flatHeight().has_value();
+  Expected<HydrostaticsResult> exact =
+      closedForm                     ? sphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), surface, query)
+      : task.exactPrepared != nullptr ? (jets ? detail::polyhedralHydrostaticsKeepingJets(*task.exactPrepared, surface, query, *jets)
+                                              : polyhedralHydrostatics(*task.exactPrepared, surface, query))
+      : task.exactMesh != nullptr    ? polyhedralHydrostaticsUnchecked(*task.exactMesh, surface, query)
+                                     : Expected<HydrostaticsResult>(Error{"no mesh for the exact path"});
+  if (!exact) return false;
+  out = *exact;
+  return true;
+}
+
 // Whether the body needs hydrostatics this step: buoyancy or added mass listed, and a weight that
 // presses it into the liquid (no hydrostatic head without downward gravity).
 bool asksHydrostatics(const RigidBodyTask& task) {
@@ -166,12 +185,7 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
   if (result.plan != RigidBodyPlan::Computed) return;
   RigidBodyStepCounters& counters = result.counters;
   // Hydrostatics: the backend's answer for a texture body, the exact path here for the others.
-  // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is summed
-  // here, after it, reading its heights from them (the drag's own grid took 23-36 jets on
-  // bench_peers' box and hull under its three waves, ~150 ns each).
   bool haveHydrostatics = false;
-  const bool dragAfterQuery = dragAfterExactQuery(batch, i);
-  std::optional<detail::SurfaceJetGrid> jets;
   if (asksHydrostatics(task)) {
     if (queryOfBody_[i] != kNoQuery) {
       const std::size_t q = queryOfBody_[i];
@@ -181,25 +195,22 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
       }
     } else if (task.sphereRadius || task.exactPrepared != nullptr || task.exactMesh != nullptr) {
       ++counters.hydrostaticsQueries;
-      const HydrostaticsQuery query = queryOf(task);
-      // A sphere in flat water in closed form; the prepared mesh gives the mesh's own answer
-      // (PreparedPolyhedron.hpp), faster, and under waves models the surface over its triangles.
-      const bool closedForm = task.sphereRadius && batch.surface.flatHeight().has_value();
-      if (Expected<HydrostaticsResult> exact =
-              closedForm                       ? sphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), batch.surface, query)
-              : task.exactPrepared != nullptr
-                  ? (dragAfterQuery ? detail::polyhedralHydrostaticsKeepingJets(*task.exactPrepared, batch.surface, query, jets)
-                                    : polyhedralHydrostatics(*task.exactPrepared, batch.surface, query))
-              : task.exactMesh != nullptr     ? polyhedralHydrostaticsUnchecked(*task.exactMesh, batch.surface, query)
-                                              : Expected<HydrostaticsResult>(Error{"no mesh for the exact path"})) {
-        result.hydrostatics = *exact;
-        haveHydrostatics = true;
+      if (dragAfterExactQuery(batch, i)) {
+        // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is
+        // summed here, after it, reading its heights from them (the drag's own grid took 23-36
+        // jets on bench_peers' box and hull under its three waves, ~150 ns each). The grid is
+        // declared on this path only: GCC zero-fills a default-constructed
+        // optional<SurfaceJetGrid> (52 KiB), which cost every other body a step's memset.
+        std::optional<detail::SurfaceJetGrid> jets;
+        haveHydrostatics = exactHydrostatics(batch.surface, task, &jets, result.hydrostatics);
+        drag_[i] = detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt,
+                                         jets ? &*jets : nullptr);
+      } else {
+        haveHydrostatics = exactHydrostatics(batch.surface, task, nullptr, result.hydrostatics);
       }
     }
     if (!haveHydrostatics) ++counters.failedQueries;
   }
-  if (dragAfterQuery)
-    drag_[i] = detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt, jets ? &*jets : nullptr);
   RigidBodyStepInput input = task.input;
   input.hydrostatics = haveHydrostatics ? &result.hydrostatics : nullptr;
   input.dragLoads = input.drag != nullptr ? &drag_[i] : nullptr;
