@@ -41,6 +41,14 @@ HydrostaticsQuery queryOf(const RigidBodyTask& task) {
   return query;
 }
 
+// The grid of surface jets a body's exact query keeps for its drag: one per thread, reused. GCC
+// zero-fills a default-constructed optional<SurfaceJetGrid> (52 KiB): one on the stack of each
+// update cost every body that memset, 0.5 us of a box's 1.6 in flat water (bench_peers).
+std::optional<detail::SurfaceJetGrid>& threadJetGrid() {
+  static thread_local std::optional<detail::SurfaceJetGrid> grid;
+  return grid;
+}
+
 // Body `task`'s hydrostatics on the exact path (or a sphere's closed form) into `out`; false when
 // the query fails. With `jets`, a prepared body's query keeps the surface jets it sampled there.
 bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
@@ -198,13 +206,12 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
       if (dragAfterExactQuery(batch, i)) {
         // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is
         // summed here, after it, reading its heights from them (the drag's own grid took 23-36
-        // jets on bench_peers' box and hull under its three waves, ~150 ns each). The grid is
-        // declared on this path only: GCC zero-fills a default-constructed
-        // optional<SurfaceJetGrid> (52 KiB), which cost every other body a step's memset.
-        std::optional<detail::SurfaceJetGrid> jets;
+        // jets on bench_peers' box and hull under its three waves, ~150 ns each).
+        std::optional<detail::SurfaceJetGrid>& jets = threadJetGrid();
         haveHydrostatics = exactHydrostatics(batch.surface, task, &jets, result.hydrostatics);
         drag_[i] = detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt,
                                          jets ? &*jets : nullptr);
+        jets.reset();  // it refers to the surface
       } else {
         haveHydrostatics = exactHydrostatics(batch.surface, task, nullptr, result.hydrostatics);
       }
