@@ -165,6 +165,54 @@ TEST_CASE("Jet grid: interpolation and local models stay within their error boun
   }
 }
 
+TEST_CASE("Jet grid: a cell's kept polynomial is that cell's Hermite patch, whichever cells share its slot",
+          "[hydrostatics][waves][jets]") {
+  // The grid keeps each cell's patch in a slot chosen by the cell's index modulo a few dozen
+  // (SurfaceJetGrid::patch). Points taken in turn in cells that share a slot must each get their
+  // own cell's bicubic Hermite patch, written out here from jets asked one by one (heightJet):
+  // the same polynomial, on samples that agree to the Newton searches' convergence (the grid
+  // asks its samples in batches, each search started from the last; measured up to 5e-11 m).
+  // A neighbouring cell's patch, at the same place within it, is 3e-4 to 7e-3 m off here.
+  const Sea sea = seas().front();
+  const double time = 3.7, originX = 400.0, originZ = -250.0, lowX = -2.0, lowZ = -1.5;
+  detail::SurfaceJetGrid grid(sea.waves, time, originX, originZ, lowX, 2.0, lowZ, 1.5, 0.1);
+  const double s = grid.spacing();
+  const int sideX = int(std::ceil(4.0 / s)) + 1;
+  const auto hermite = [&](double x, double z) {
+    const int i = int(std::floor((x - lowX) / s)), j = int(std::floor((z - lowZ) / s));
+    const double t = (x - lowX) / s - i, w = (z - lowZ) / s - j;
+    const auto basis = [](double u, double (&b)[4]) {  // value 0, slope 0, value 1, slope 1
+      b[0] = 2 * u * u * u - 3 * u * u + 1;
+      b[1] = u * u * u - 2 * u * u + u;
+      b[2] = -2 * u * u * u + 3 * u * u;
+      b[3] = u * u * u - u * u;
+    };
+    double bt[4], bw[4];
+    basis(t, bt);
+    basis(w, bw);
+    double height = 0.0;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const SurfaceJet n = *sea.waves.heightJet(originX + lowX + (i + a) * s, originZ + lowZ + (j + b) * s, time);
+        height += bt[2 * a] * (bw[2 * b] * n.height + bw[2 * b + 1] * s * n.slopeZ) +
+                  bt[2 * a + 1] * s * (bw[2 * b] * n.slopeX + bw[2 * b + 1] * s * n.curvatureXZ);
+      }
+    return height;
+  };
+  // Cells 100 and 100 + 64k (k = 0..3) in turn, a point at a different place in each visit.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> inCell(0.05, 0.95);
+  for (int round = 0; round < 5; ++round)
+    for (int k = 0; k < 4; ++k) {
+      const int index = 100 + 64 * k, i = index % sideX, j = index / sideX;
+      const double x = lowX + (i + inCell(rng)) * s, z = lowZ + (j + inCell(rng)) * s;
+      INFO("round " << round << ", cell " << index);
+      SurfaceJet jet;
+      REQUIRE(grid.interpolate(x, z, jet));
+      CHECK(std::abs(jet.height - hermite(x, z)) <= 1e-9);
+    }
+}
+
 namespace {
 
 /// A texel's moment correction as the law states it in the world frame (HydrostaticSums.hpp,
