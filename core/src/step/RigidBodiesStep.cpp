@@ -42,8 +42,8 @@ HydrostaticsQuery queryOf(const RigidBodyTask& task) {
 }
 
 // The grid of surface jets a body's exact query keeps for its drag: one per thread, reused. GCC
-// zero-fills a default-constructed optional<SurfaceJetGrid> (52 KiB): one on the stack of each
-// update cost every body that memset, 0.5 us of a box's 1.6 in flat water (bench_peers).
+// zero-fills a default-constructed optional<SurfaceJetGrid> (over 50 KiB): one on the stack of each
+// update cost every body that memset, about 0.6 us of a box's 1.65 in flat water (bench_peers).
 std::optional<detail::SurfaceJetGrid>& threadJetGrid() {
   static thread_local std::optional<detail::SurfaceJetGrid> grid;
   return grid;
