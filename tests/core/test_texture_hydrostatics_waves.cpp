@@ -165,7 +165,7 @@ TEST_CASE("Jet grid: interpolation and local models stay within their error boun
   }
 }
 
-TEST_CASE("Jet grid: a cell's kept polynomial is that cell's Hermite patch, whichever cells share its slot",
+TEST_CASE("Jet grid: a cell's kept polynomial is that cell's Hermite patch, whichever cells share its slot, for jets and heights alike",
           "[hydrostatics][waves][jets]") {
   // The grid keeps each cell's patch in a slot chosen by the cell's index modulo a few dozen
   // (SurfaceJetGrid::patch). Every cell is visited twice, the second time after all the others:
@@ -207,6 +207,7 @@ TEST_CASE("Jet grid: a cell's kept polynomial is that cell's Hermite patch, whic
   std::uniform_real_distribution<double> inCell(0.05, 0.95);
   const int cellsX = int(4.0 / s), cellsZ = int(3.0 / s);
   double worst = 0.0;
+  int heightMismatches = 0;
   for (int pass = 0; pass < 2; ++pass)
     for (int j = 0; j < cellsZ; ++j)
       for (int i = 0; i < cellsX; ++i) {
@@ -214,10 +215,16 @@ TEST_CASE("Jet grid: a cell's kept polynomial is that cell's Hermite patch, whic
         SurfaceJet jet;
         REQUIRE(grid.interpolate(x, z, jet));
         worst = std::max(worst, std::abs(jet.height - hermite(x, z)));
+        // height() (drag's heights, the texture path's texels without moments) reads the same
+        // kept polynomial: the same number, not merely a close one.
+        double height = NAN;
+        REQUIRE(grid.height(x, z, height));
+        if (height != jet.height) ++heightMismatches;
       }
   INFO(cellsX * cellsZ << " cells");
   CHECK(cellsX * cellsZ > 1000);
   CHECK(worst <= 1e-7);
+  CHECK(heightMismatches == 0);
 }
 
 namespace {

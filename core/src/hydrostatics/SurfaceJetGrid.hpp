@@ -55,25 +55,19 @@ class SurfaceJetGrid {
   }
 
   /// Interpolated height alone (m, world) at the local point (x, z) (m, relative to the origin;
-  /// clamped into the grid): the jet's first entry, for a caller that needs no derivatives (drag's
-  /// patches). False as interpolate().
+  /// clamped into the grid): the jet's first entry from the same kept cell polynomial as
+  /// interpolate(), for a caller that needs no derivatives (drag's patches). False as
+  /// interpolate().
   bool height(double x, double z, double& out) {
     int i, j;
     double t, w;
     if (!cell(x, z, i, j, t, w)) return false;
-    const double bt[4] = {(2 * t - 3) * t * t + 1, ((t - 2) * t + 1) * t, (3 - 2 * t) * t * t, (t - 1) * t * t};
-    const double bw[4] = {(2 * w - 3) * w * w + 1, ((w - 2) * w + 1) * w, (3 - 2 * w) * w * w, (w - 1) * w * w};
-    const Node* corner[2][2];
-    if (!corners(i, j, corner)) return false;
-    const double s = spacing_;
-    double sum = 0.0;
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) {
-        const Node* n = corner[a][b];
-        sum += bt[2 * a] * (bw[2 * b] * n->f + bw[2 * b + 1] * s * n->fz) +
-               bt[2 * a + 1] * s * (bw[2 * b] * n->fx + bw[2 * b + 1] * s * n->fxz);
-      }
-    out = sum;
+    const CellPolynomial* cellPatch = patch(i, j);
+    if (!cellPatch) return false;
+    const double(&c)[4][4] = cellPatch->c;
+    double q[4];
+    for (int k = 0; k < 4; ++k) q[k] = ((c[k][3] * w + c[k][2]) * w + c[k][1]) * w + c[k][0];
+    out = ((q[3] * t + q[2]) * t + q[1]) * t + q[0];
     return true;
   }
 
@@ -156,8 +150,7 @@ class SurfaceJetGrid {
 
   // The corners (i + a, j + b) of cell (i, j); false when one has no jet. A cell whose corners
   // are all sampled (most cells: an earlier one sampled them) takes one test of their four
-  // states instead of four node() calls (bench_peers' box under waves, when every interpolation
-  // summed the Hermite basis: 554 -> 456 instructions an interpolation, callgrind).
+  // states instead of four node() calls.
   bool corners(int i, int j, const Node* (&corner)[2][2]) {
     const std::size_t base = std::size_t(j * sideX_ + i), up = std::size_t(sideX_);
     const std::uint8_t s00 = state_[base], s01 = state_[base + up], s10 = state_[base + 1], s11 = state_[base + 1 + up];
