@@ -6,7 +6,6 @@
 
 #include "hydrotex/step/RigidBodyStep.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
@@ -36,23 +35,35 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// mode is taken with |omega^2|, so one step turns the body at most about as far as the
 /// linearized torque stays meaningful (backward Euler's quasi-static answer) instead of an
 /// explicit kick of dt tau / I, which for a tiny inertia (a needle's roll) throws it far past
-/// where that torque holds and pumps energy in. `largestRate`: omega^2 (1/s^2) of the stiffest
-/// implicit mode.
-Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen::Matrix3d& generalizedMass, double dt,
-                                  double& largestRate) {
-  const Eigen::LLT<Eigen::Matrix3d> cholesky(generalizedMass);
-  const Eigen::Matrix3d lower = cholesky.matrixL();
+/// where that torque holds and pumps energy in. M is block diagonal: `heaveMass` (kg) on heave
+/// and `rollPitch` (kg m^2, rollPitchInertia) on roll and pitch, so L is sqrt(m) beside the 2 x 2
+/// Cholesky factor of rollPitch, and L^-1 K L^-T is written out from it (no general 3 x 3
+/// factorization, inverse or product: they were a third of a floating body's update, callgrind).
+/// `largestRate`: omega^2 (1/s^2) of the stiffest implicit mode.
+Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, double heaveMass, const Eigen::Matrix2d& rollPitch,
+                                  double dt, double& largestRate) {
   const Eigen::Matrix3d symmetric = 0.5 * (stiffness + stiffness.transpose());
-  // L^-1 K L^-T with L^-1 from the fixed-size 3x3 inverse (cofactors): no general triangular solve.
-  const Eigen::Matrix3d lowerInverse = lower.inverse();
-  const Eigen::Matrix3d normalized = lowerInverse * symmetric * lowerInverse.transpose();
+  // L = diag(l0, [[a, 0], [b, c]]) and its inverse diag(1 / l0, [[1 / a, 0], [-b / (a c), 1 / c]]).
+  const double l0 = std::sqrt(heaveMass);
+  const double a = std::sqrt(rollPitch(0, 0)), b = rollPitch(1, 0) / a, c = std::sqrt(rollPitch(1, 1) - b * b);
+  const double i0 = 1.0 / l0, ia = 1.0 / a, ic = 1.0 / c, ib = -b * ia * ic;
+  // Rows of L^-1 applied to K's columns, then L^-T from the right (upper triangle; symmetric).
+  Eigen::Matrix3d modes;
+  modes(0, 0) = symmetric(0, 0) * i0 * i0;
+  modes(0, 1) = i0 * symmetric(0, 1) * ia;
+  modes(0, 2) = i0 * (symmetric(0, 1) * ib + symmetric(0, 2) * ic);
+  modes(1, 1) = symmetric(1, 1) * ia * ia;
+  modes(1, 2) = ia * (symmetric(1, 1) * ib + symmetric(1, 2) * ic);
+  modes(2, 2) = ib * ib * symmetric(1, 1) + 2.0 * ib * ic * symmetric(1, 2) + ic * ic * symmetric(2, 2);
+  modes(1, 0) = modes(0, 1);
+  modes(2, 0) = modes(0, 2);
+  modes(2, 1) = modes(1, 2);
   // The closed-form 3x3 solver (trigonometric roots): several times cheaper than the iterative
   // one, and every body's step asks it; its eigenvalues are accurate to ~1e-15 of the largest.
   // When every mode is stable (a body floating upright, the common case) the modal sum below is K
   // itself and only the largest rate is needed, not the eigenvectors. K's leading minors tell
   // (L^-1 K L^-T has K's signs of eigenvalues: Sylvester's law of inertia), so that a body with a
   // mode that is not stable (a sphere's free roll) pays the solver once, as before.
-  const Eigen::Matrix3d modes = 0.5 * (normalized + normalized.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   const double minor1 = symmetric(0, 0), minor2 = minor1 * symmetric(1, 1) - symmetric(0, 1) * symmetric(1, 0);
   if (minor1 > 0.0 && minor2 > 0.0 && symmetric.determinant() > 0.0) {
@@ -67,6 +78,11 @@ Eigen::Matrix3d implicitStiffness(const Eigen::Matrix3d& stiffness, const Eigen:
     if (rate > 0.0 || rate * dt * dt < -1.0) rates[i] = std::abs(rate);
   }
   largestRate = rates.maxCoeff();
+  Eigen::Matrix3d lower = Eigen::Matrix3d::Zero();
+  lower(0, 0) = l0;
+  lower(1, 1) = a;
+  lower(2, 1) = b;
+  lower(2, 2) = c;
   const Eigen::Matrix3d modal = solver.eigenvectors() * rates.asDiagonal() * solver.eigenvectors().transpose();
   return lower * modal * lower.transpose();
 }
@@ -115,14 +131,19 @@ Vector6d solveSymmetric(const Matrix6d& a, const Vector6d& b) {
 }
 
 /// The inertia that torques about the world x and z axes meet while the spin about y stays free:
-/// the inverse of the (x, z) block of the inverse inertia (a Schur complement). For a needle
-/// lying in the water this is its tiny inertia about its own axis, where the diagonal entries
-/// I_xx, I_zz see the large transverse one whenever the needle is not exactly along x or z.
+/// the inverse of the (x, z) block of the inverse inertia, which is the Schur complement of I_yy,
+/// [[I_xx, I_xz], [I_zx, I_zz]] - [I_xy, I_zy]^T [I_yx, I_yz] / I_yy (no inverse taken). For a
+/// needle lying in the water this is its tiny inertia about its own axis, where the diagonal
+/// entries I_xx, I_zz see the large transverse one whenever the needle is not exactly along x or z.
 Eigen::Matrix2d rollPitchInertia(const Eigen::Matrix3d& inertiaWorld) {
-  const Eigen::Matrix3d inverse = inertiaWorld.inverse();
+  const Eigen::Matrix3d& i = inertiaWorld;
+  const double across = 1.0 / i(1, 1);
   Eigen::Matrix2d block;
-  block << inverse(0, 0), inverse(0, 2), inverse(2, 0), inverse(2, 2);
-  return block.inverse();
+  block(0, 0) = i(0, 0) - i(0, 1) * i(1, 0) * across;
+  block(0, 1) = i(0, 2) - i(0, 1) * i(1, 2) * across;
+  block(1, 0) = i(2, 0) - i(2, 1) * i(1, 0) * across;
+  block(1, 1) = i(2, 2) - i(2, 1) * i(1, 2) * across;
+  return block;
 }
 
 /// The horizontal footprint (m, world) of `set` posed at (rotation, translation): each patch lies
@@ -535,10 +556,8 @@ Expected<RigidBodyVelocities> implicitVelocityUpdate(const RigidBodyMotion& moti
   const bool stiff = !input.stiffness.isZero(0.0) && input.stiffness.allFinite();
   if (stiff) {
     double rate = 0.0;
-    Eigen::Matrix3d generalizedMass = Eigen::Matrix3d::Zero();
-    generalizedMass(0, 0) = effectiveMass;
-    generalizedMass.bottomRightCorner<2, 2>() = rollPitchInertia(inertiaWorld);
-    const Eigen::Matrix3d implicitPart = implicitStiffness(input.stiffness, generalizedMass, dt, rate);
+    const Eigen::Matrix3d implicitPart =
+        implicitStiffness(input.stiffness, effectiveMass, rollPitchInertia(inertiaWorld), dt, rate);
     const double theta = std::min(1.0, rate * dt * dt);
     static constexpr int kIndex[3] = {1, 3, 5};  // heave -> v_y, roll -> w_x, pitch -> w_z (in u)
     for (int i = 0; i < 3; ++i)
