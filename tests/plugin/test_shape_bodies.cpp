@@ -333,6 +333,33 @@ TEST_CASE("unsupported shapes are refused with one line naming the shape type", 
   world.world().removeRigidBody(&body);
 }
 
+TEST_CASE("a long thin capsule is meshed within the volume bound in a bounded number of triangles",
+          "[shape][closed-form]") {
+  // fuzz_scene found a 110 m capsule of 0.25 m radius (fuzz/corpus/scene/long-capsule-rows-
+  // timeout.json): its cylinder took rows as tall as the caps' 19 mm rings, 5,882 of them, a
+  // million triangles (its scene took 6.3 s, 60 s under the sanitizers). The side is ruled, so
+  // the rows do not change the volume: at most `slices` of them now (ShapeMesh: slices = 4 m, m
+  // rings per cap), 2 slices (2 m + slices) triangles at most, and the volume within the bound.
+  const double r = 0.25, h = 110.0;
+  const btCapsuleShapeZ capsule{btScalar(r), btScalar(h)};
+  Expected<Mesh> mesh = meshFromCollisionShape(capsule, {});
+  REQUIRE(mesh);
+  const double exact = kPi * r * r * (4.0 / 3.0 * r + h);
+  const MassProperties props = meshProperties(capsule);
+  CAPTURE(mesh->triangles.size(), props.volume, exact);
+  // The default bound, 1e-3 of the volume (ShapeTessellation), needs m = 21 rings a cap here
+  // (84 slices: the cylinder's polygon loses (2 pi / n)^2 / 6 of its area, 9.3e-4 at n = 84):
+  // 2 * 84 * (42 + 84) = 21,168 triangles at most.
+  CHECK(mesh->triangles.size() <= 21168);
+  CHECK(props.volume <= exact * (1.0 + 1e-12));
+  CHECK(props.volume >= exact * (1.0 - 1e-3));
+  // Its UVs stay in the unit square (one chart, each row at its arc length).
+  for (const Eigen::Vector2d& uv : mesh->uv.uvs) {
+    CHECK(uv.minCoeff() >= 0.0);
+    CHECK(uv.maxCoeff() <= 1.0);
+  }
+}
+
 TEST_CASE("addAllBodies floats a world's boxes and capsules as their own shapes at the closed-form draft",
           "[shape][floating][closed-form]") {
   const auto method = GENERATE(HydrostaticsMethod::Polyhedral, HydrostaticsMethod::Texture);

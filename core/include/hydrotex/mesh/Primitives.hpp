@@ -21,7 +21,8 @@ Mesh icosphere(double radius, int subdivisions);
 Mesh cylinder(double radius, double length, int segments);
 /// Capsule along y centred at the origin: a cylinder of `cylinderLength` (m, >= 0; Bullet's
 /// capsule "height") capped by hemispheres of `radius`; `slices` around y, `stacksPerCap` rings
-/// per hemisphere (the cylinder gets rows of about the same height, so texel density is uniform).
+/// per hemisphere; the cylinder gets rows of about the same height, at most `slices` of them (its
+/// side is exact with one), and each row's UV lies at its arc length, so texel density is uniform.
 Mesh capsule(double radius, double cylinderLength, int slices, int stacksPerCap);
 /// Closed cone with its base at y = 0 and apex at y = height.
 Mesh cone(double radius, double height, int segments);
