@@ -353,11 +353,42 @@ TEST_CASE("a long thin capsule is meshed within the volume bound in a bounded nu
   CHECK(mesh->triangles.size() <= 21168);
   CHECK(props.volume <= exact * (1.0 + 1e-12));
   CHECK(props.volume >= exact * (1.0 - 1e-3));
-  // Its UVs stay in the unit square (one chart, each row at its arc length).
-  for (const Eigen::Vector2d& uv : mesh->uv.uvs) {
-    CHECK(uv.minCoeff() >= 0.0);
-    CHECK(uv.maxCoeff() <= 1.0);
+  // One chart with each row at its arc length: the cylinder's few tall rows get as much of the
+  // chart per square metre as the caps' rings. Texel density (chart area / surface area) is the
+  // same on every side triangle, and within 1 % of the triangles of the caps' rings next to the
+  // equator: those rings lie within pi / (2 m) of it, so their circumference is at least
+  // cos(pi / 42) = 0.997 of the cylinder's for the same chart width. With the rows evenly spaced
+  // in the chart, the side (84 rows of 126) would get 0.67 of its share (110 m of 110.8).
+  REQUIRE(mesh->hasUvs());
+  double sideLow = INFINITY, sideHigh = 0.0, capSum = 0.0;
+  int capCount = 0;
+  for (std::size_t t = 0; t < mesh->triangles.size(); ++t) {
+    Eigen::Vector3d p[3];
+    Eigen::Vector2d q[3];
+    for (int k = 0; k < 3; ++k) {
+      p[k] = mesh->positions[std::size_t(mesh->triangles[t][k])];
+      q[k] = mesh->uv.uvs[std::size_t(mesh->uv.uvTriangles[t][k])];
+    }
+    const double area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    const Eigen::Vector2d u = q[1] - q[0], v = q[2] - q[0];
+    const double density = 0.5 * std::abs(u.x() * v.y() - u.y() * v.x()) / area;
+    bool side = true, nearEquator = true;
+    for (const Eigen::Vector3d& c : p) {
+      side = side && std::abs(c.z()) <= 0.5 * h + 1e-9;
+      nearEquator = nearEquator && std::abs(c.z()) >= 0.5 * h - 1e-9 && std::hypot(c.x(), c.y()) >= 0.99 * r;
+    }
+    if (side) {
+      sideLow = std::min(sideLow, density);
+      sideHigh = std::max(sideHigh, density);
+    } else if (nearEquator) {
+      capSum += density;
+      ++capCount;
+    }
   }
+  REQUIRE(capCount > 0);
+  CAPTURE(sideLow, sideHigh, capSum / capCount);
+  CHECK(sideHigh <= sideLow * (1.0 + 1e-6));
+  CHECK(capSum / capCount == Approx(sideLow).epsilon(0.01));
 }
 
 TEST_CASE("addAllBodies floats a world's boxes and capsules as their own shapes at the closed-form draft",
