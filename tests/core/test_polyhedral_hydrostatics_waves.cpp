@@ -228,8 +228,10 @@ TEST_CASE("Exact path on a prepared mesh under waves: local surface models again
   // phases. The plain exact path on the same coarse meshes is off by up to 2.8e-2 V (the 12-
   // triangle box under bench_peers' swell, against a mesh subdivided to 2 cm edges; the prepared
   // path 2.3e-5). Measured over these poses (the WARN below), the largest differences: volume
-  // 4.4e-5 V, force 9.4e-5 rho g V, torque 9.6e-5 rho g V m (the Wigley hull under log_waves'
-  // 0.3 m waves), V c_B 3.9e-5 V m (under the swell), water plane 1.3e-3 of its area (the box).
+  // 4.4e-5 V, force 9.4e-5 rho g V, torque 1.03e-4 rho g V m (the Wigley hull under log_waves'
+  // 0.3 m waves; 9.6e-5 while each part wholly under a covering model took its first moments
+  // about its own centre, not the covering node's), V c_B 3.9e-5 V m (under the swell), water
+  // plane 1.3e-3 of its area (the box).
   // The bounds are about twice those. The log's sides are slivers (3 m by 5 cm): split into n^2
   // similar pieces (at most 16^2), under the steep sea they found no model and took the surface
   // linear between their corners 3 m apart, 4.4e-2 V off; cut into strips, 4.9e-6 V.
