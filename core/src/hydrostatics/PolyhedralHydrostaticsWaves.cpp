@@ -214,11 +214,26 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   // the pieces' corners, moves no depth by more than kExactWaveClipError: the linear
   // interpolant's error on a triangle is at most |E| e^2 / 6 (|E| the model's largest second
   // derivative, e the longest horizontal edge: Sum lambda_i |x - x_i|^2 <= e^2 / 3).
-  auto clip = [&](const Corners& c, const SurfaceModel* model, double curvature, double edgeSquared) {
+  // `cornerHeights` (may be null): the model's heights at c's corners, already known (addUnder),
+  // which an unsplit triangle takes instead of asking the model again.
+  auto clip = [&](const Corners& c, const SurfaceModel* model, double curvature, double edgeSquared,
+                  const double* cornerHeights = nullptr) {
     int m = 1;
     if (model) {
       const double needed = std::sqrt(edgeSquared * curvature / (6.0 * kExactWaveClipError));
       m = std::clamp(int(std::ceil(needed)), 1, kMaxClipSplit);
+    }
+    if (m == 1 && cornerHeights) {
+      ++done.clippedTriangles;
+      SurfaceVertex corner[3];
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d& w = c.posed[k];
+        if (!std::isfinite(cornerHeights[k])) surfaceFailed = true;
+        corner[k] = {w.x(), w.y(), w.z(), cornerHeights[k] - w.y()};
+      }
+      const SurfaceVertex* whole[3] = {&corner[0], &corner[1], &corner[2]};
+      addClippedWetTriangle(sums, whole);
+      return;
     }
     // The (m + 1)(m + 2) / 2 lattice points L(i, j) = c0 + i/m (c1 - c0) + j/m (c2 - c0), row i
     // holding m + 1 - i of them, each with its depth, then the m^2 pieces between them.
@@ -254,14 +269,16 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     ++done.pieces;
     const double edgeSquared = longestHorizontalEdgeSquared(c);
     const double margin = curvature * edgeSquared / 6.0;
-    double lowest = INFINITY, highestDepth = -INFINITY;
-    for (const Eigen::Vector3d& w : c.posed) {
-      const double depth = model.at(w.x(), w.z()) - w.y();
+    double lowest = INFINITY, highestDepth = -INFINITY, height[3];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& w = c.posed[k];
+      height[k] = model.at(w.x(), w.z());
+      const double depth = height[k] - w.y();
       lowest = std::min(lowest, depth);
       highestDepth = std::max(highestDepth, depth);
     }
     if (lowest > margin) return true;
-    if (highestDepth >= -margin) clip(c, &model, curvature, edgeSquared);
+    if (highestDepth >= -margin) clip(c, &model, curvature, edgeSquared, height);
     return false;
   };
   // A triangle with a model of its own, or split into pieces that each have one: n^2 similar
