@@ -181,6 +181,19 @@ struct WavePart {
   }
 };
 
+/// Adds one triangle's moments to `m` (body frame: `area` m^2, area vector `a`, centroid `c`, second
+/// moments per area `secondMoments`, xx xy xz yy yz zz): rank one, Sum A = a, Sum p A = c a^T,
+/// Sum p p A = S a^T.
+inline void addTriangleMoments(TextureHydrostatics::Moments& m, double area, const double (&a)[3], const double (&c)[3],
+                               const double (&secondMoments)[6]) {
+  m.sumArea += area;
+  for (int k = 0; k < 3; ++k) {
+    m.sumA[k] += a[k];
+    for (int i = 0; i < 3; ++i) m.sumPA[i][k] += c[i] * a[k];
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][k] += secondMoments[pair] * a[k];
+  }
+}
+
 /// The local models of one query under a surface with smoothness bounds, over the body's
 /// horizontal footprint, and the sums of the parts wholly under their models. Lives on the stack.
 class LocalSurfaceModels {
@@ -259,12 +272,7 @@ class LocalSurfaceModels {
     double d[3], e[3][3];
     modelTerms(model, d, e);
     wave_.addTriangle(a, c, secondMoments, model.h, d, e, yRow_);
-    under_.sumArea += area;
-    for (int k = 0; k < 3; ++k) {
-      under_.sumA[k] += a[k];
-      for (int i = 0; i < 3; ++i) under_.sumPA[i][k] += c[i] * a[k];
-      for (int pair = 0; pair < 6; ++pair) under_.sumPPA[pair][k] += secondMoments[pair] * a[k];
-    }
+    addTriangleMoments(under_, area, a, c, secondMoments);
   }
 
   /// Adds the flat part (depth -y', h' = 0) of the submerged parts' sums to `sums`.

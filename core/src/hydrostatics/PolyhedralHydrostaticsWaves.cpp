@@ -36,28 +36,19 @@ namespace {
 
 using Moments = TextureHydrostatics::Moments;
 
-/// The moments of a wholly wet triangle from its constants.
-Moments momentsOf(const TriangleConstants& k) {
-  Moments m;
-  m.sumArea = k.area;
-  for (int a = 0; a < 3; ++a) {
-    m.sumA[a] = k.areaVector[a];
-    for (int i = 0; i < 3; ++i) m.sumPA[i][a] = k.centroid[i] * k.areaVector[a];
-    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][a] = k.secondMoments[pair] * k.areaVector[a];
-  }
-  return m;
+/// Adds a wholly wet triangle's moments, from its constants, to `m`.
+void addMoments(Moments& m, const TriangleConstants& k) {
+  addTriangleMoments(m, k.area, k.areaVector, k.centroid, k.secondMoments);
 }
 
-/// The summed moments of a node.
-Moments momentsOf(const NodeSums& node) {
-  Moments m;
-  m.sumArea = node.area;
+/// Adds a node's summed moments to `m`.
+void addMoments(Moments& m, const NodeSums& node) {
+  m.sumArea += node.area;
   for (int a = 0; a < 3; ++a) {
-    m.sumA[a] = node.areaVector[a];
-    for (int i = 0; i < 3; ++i) m.sumPA[i][a] = node.firstMoments[i][a];
-    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][a] = node.secondMoments[pair][a];
+    m.sumA[a] += node.areaVector[a];
+    for (int i = 0; i < 3; ++i) m.sumPA[i][a] += node.firstMoments[i][a];
+    for (int pair = 0; pair < 6; ++pair) m.sumPPA[pair][a] += node.secondMoments[pair][a];
   }
-  return m;
 }
 
 /// A triangle's corners in the body frame and posed (frame o), in the mesh's orientation.
@@ -423,7 +414,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       int under = 0;
       for (int member = 0; member < g.count; ++member) {
         if (!addUnder(g.corners[member], model, curvature)) continue;
-        submerged.add(momentsOf(prepared.constant(g.index[member])));
+        addMoments(submerged, prepared.constant(g.index[member]));
         for (int a = 0; a < 3; ++a) {
           body += g.corners[member].body[a];
           posed += g.corners[member].posed[a];
@@ -516,7 +507,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
         continue;
       }
       if (high <= modelLow) {
-        covering->under.add(momentsOf(prepared.sums[i]));
+        addMoments(covering->under, prepared.sums[i]);
         covering->anyUnder = true;
         i = node.next;
         continue;
@@ -537,9 +528,9 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
         if (poseTriangle(k, c) && addUnder(c, covering->model, covering->curvature)) listed[under++] = k;
       }
       if (under == node.end - node.begin) {
-        covering->under.add(momentsOf(prepared.sums[i]));
+        addMoments(covering->under, prepared.sums[i]);
       } else {
-        for (std::uint32_t l = 0; l < under; ++l) covering->under.add(momentsOf(prepared.constant(listed[l])));
+        for (std::uint32_t l = 0; l < under; ++l) addMoments(covering->under, prepared.constant(listed[l]));
       }
       covering->anyUnder = covering->anyUnder || under > 0;
       i = node.next;
