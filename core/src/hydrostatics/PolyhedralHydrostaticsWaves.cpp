@@ -20,11 +20,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "bake/TexelPosing.hpp"
 #include "hydrostatics/HydrostaticSums.hpp"
@@ -164,35 +162,6 @@ constexpr double kStripToleranceShare = 0.5;
 // 528-534, the 17,160-face sphere 69.8-70.1 against 67.0-67.9 / 66.3-67.7; box unchanged.
 constexpr double kWideRefresh = 0.5;
 
-// Meshes of at most this many vertices keep their posed vertices in VertexScratch (at 48 bytes a
-// vertex, 6 MiB a thread at most); larger ones pose each triangle's corners anew.
-constexpr std::size_t kMaxScratchVertices = std::size_t(1) << 17;
-
-/// What one query learns about the mesh's vertices, kept per thread: a vertex posed (frame o) and
-/// its height under the covering model, each valid while its stamp is the query's (or the
-/// covering's) serial. A vertex is shared by about six triangles, and the walk classifies a
-/// visited leaf's triangles one by one: each posed its corners and asked the model there anew.
-struct VertexScratch {
-  std::vector<Eigen::Vector3d> posed;
-  std::vector<double> height;
-  std::vector<std::uint64_t> posedStamp, heightStamp;
-  std::uint64_t serial = 0;  // the last serial handed out (never 0 once a query began)
-
-  /// Room for `count` vertices (stamps of new entries 0: valid for no serial).
-  void fit(std::size_t count) {
-    if (posed.size() >= count) return;
-    posed.resize(count);
-    height.resize(count);
-    posedStamp.resize(count, 0);
-    heightStamp.resize(count, 0);
-  }
-};
-
-VertexScratch& vertexScratch() {
-  thread_local VertexScratch scratch;
-  return scratch;
-}
-
 }  // namespace
 
 std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mesh& mesh,
@@ -287,15 +256,14 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   };
   // The triangle `c` under `model` (`curvature`: its curvatureNorm()): true when wholly under it
   // (the caller adds its moments to the model's wave part); wholly over, nothing; else clipped.
-  // `known` (may be null): the model's heights at c's corners, already asked.
-  auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature, const double* known = nullptr) {
+  auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature) {
     ++done.pieces;
     const double edgeSquared = longestHorizontalEdgeSquared(c);
     const double margin = curvature * edgeSquared / 6.0;
     double lowest = INFINITY, highestDepth = -INFINITY, height[3];
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d& w = c.posed[k];
-      height[k] = known ? known[k] : model.at(w.x(), w.z());
+      height[k] = model.at(w.x(), w.z());
       const double depth = height[k] - w.y();
       lowest = std::min(lowest, depth);
       highestDepth = std::max(highestDepth, depth);
@@ -389,49 +357,16 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
 
   const auto& positions = mesh.positions;
   const std::vector<TriangleNode>& nodes = prepared.nodes;
-  VertexScratch* scratch = positions.size() <= kMaxScratchVertices ? &vertexScratch() : nullptr;
-  std::uint64_t poseSerial = 0;  // this query's posed vertices in the scratch
-  if (scratch) {
-    scratch->fit(positions.size());
-    poseSerial = ++scratch->serial;
-  }
   // Triangle k of the prepared order posed into `c`; false when it lies over every crest.
   auto poseTriangle = [&](std::uint32_t k, Corners& c) {
     const Eigen::Vector3i& tri = prepared.triangles[k];
     double lowest = INFINITY;
     for (int a = 0; a < 3; ++a) {
-      const std::size_t v = std::size_t(tri[a]);
-      c.body[a] = positions[v];
-      if (!scratch) {
-        c.posed[a] = r * c.body[a] + offset;
-      } else {
-        if (scratch->posedStamp[v] != poseSerial) {
-          scratch->posed[v] = r * c.body[a] + offset;
-          scratch->posedStamp[v] = poseSerial;
-        }
-        c.posed[a] = scratch->posed[v];
-      }
+      c.body[a] = positions[std::size_t(tri[a])];
+      c.posed[a] = r * c.body[a] + offset;
       lowest = std::min(lowest, c.posed[a].y());
     }
     return lowest < highest;
-  };
-  // The covering model's heights at triangle k's corners (posed in c), asked once a vertex while
-  // the covering lasts (`serial`: its own); false without the scratch. (For a leaf's runs of
-  // triangles, each under a model of its own, the lookups cost more than they saved: callgrind,
-  // the sphere +1.4 %, the Wigley hull +1.8 %.)
-  auto coveringHeights = [&](std::uint32_t k, const Corners& c, const SurfaceModel& model, std::uint64_t serial,
-                             double (&heights)[3]) {
-    if (!scratch) return false;
-    const Eigen::Vector3i& tri = prepared.triangles[k];
-    for (int a = 0; a < 3; ++a) {
-      const std::size_t v = std::size_t(tri[a]);
-      if (scratch->heightStamp[v] != serial) {
-        scratch->height[v] = model.at(c.posed[a].x(), c.posed[a].z());
-        scratch->heightStamp[v] = serial;
-      }
-      heights[a] = scratch->height[v];
-    }
-    return true;
   };
   // Triangles of a leaf that take one model: their corners, indices and horizontal bounds.
   struct Group {
@@ -510,7 +445,6 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     Eigen::Vector3d center;   // the node's (body frame), below the model's centre
     Moments under;            // the subtree's parts wholly under the model so far
     bool anyUnder = false;
-    std::uint64_t serial = 0;  // its vertices' heights in the scratch (coveringHeights)
   };
   std::optional<Covering> covering;
   // Adds what the covering model's subtree had wholly under it, and ends the covering.
@@ -547,8 +481,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     if (!covering) {
       SurfaceModel model;
       if (models.over(f, model)) {
-        covering = Covering{node.next, model, model.curvatureNorm(), center, Moments{}, false,
-                            scratch ? ++scratch->serial : 0};
+        covering = Covering{node.next, model, model.curvatureNorm(), center, Moments{}};
       } else {
         // Too wide for a model within the tolerance, but a model with its wider bound still
         // finds a node wholly over the surface (a ship's deck between crests).
@@ -592,10 +525,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
       std::uint32_t listed[kMaxLeafTriangles], under = 0;
       for (std::uint32_t k = node.begin; k < node.end; ++k) {
         Corners c;
-        if (!poseTriangle(k, c)) continue;
-        double heights[3];
-        const bool known = coveringHeights(k, c, covering->model, covering->serial, heights);
-        if (addUnder(c, covering->model, covering->curvature, known ? heights : nullptr)) listed[under++] = k;
+        if (poseTriangle(k, c) && addUnder(c, covering->model, covering->curvature)) listed[under++] = k;
       }
       if (under == node.end - node.begin) {
         addMoments(covering->under, prepared.sums[i]);
