@@ -311,6 +311,7 @@ TEST_CASE("modeled exact time under waves: the counted work of queries at a stan
   CHECK(work.pieces == again.pieces);
   CHECK(work.clippedTriangles == again.clippedTriangles);
   CHECK(work.jets == again.jets);
+  CHECK(work.sampledPieces == again.sampledPieces);
   // The log's sides, 3 m slivers, take a model for each strip: far more than its 128 triangles.
   CHECK(work.models > 500);
   CHECK(work.pieces >= work.models / 2);
@@ -319,15 +320,15 @@ TEST_CASE("modeled exact time under waves: the counted work of queries at a stan
   // The per-unit costs.
   CHECK(modeledExactMicroseconds(work) ==
         Approx(0.05 * double(work.nodes) + 0.10 * double(work.models) + 0.045 * double(work.clippedTriangles) +
-               0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets)));
+               0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets) + 0.05 * double(work.sampledPieces)));
 
   // Flat water counts only the nodes its own hierarchy visited; nothing of the models is counted
   // there, nor for a body above every crest.
-  ExactWaveWork none{1, 1, 1, 1, 1, 1};
+  ExactWaveWork none{1, 1, 1, 1, 1, 1, 1};
   REQUIRE(polyhedralHydrostatics(log, flat, query, &none).ok());
   CHECK(none.nodes > 0);
   CHECK(none.nodes <= log.nodeCount());
-  CHECK(none.models + none.pieces + none.clippedTriangles + none.surfaceHeights + none.jets == 0);
+  CHECK(none.models + none.pieces + none.clippedTriangles + none.surfaceHeights + none.jets + none.sampledPieces == 0);
   HydrostaticsQuery high = query;
   high.pose.translation.y() = 10.0;
   ExactWaveWork dry;

@@ -188,7 +188,7 @@ double waterlineFactor(const Mesh& mesh) {
 
 double modeledExactMicroseconds(const ExactWaveWork& work) {
   return 0.05 * double(work.nodes) + 0.10 * double(work.models) + 0.045 * double(work.clippedTriangles) +
-         0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets);
+         0.31 * double(work.surfaceHeights) + 0.19 * double(work.jets) + 0.05 * double(work.sampledPieces);
 }
 
 Expected<double> modeledExactMicroseconds(const PreparedPolyhedron& body, const LiquidSurface& surface) {

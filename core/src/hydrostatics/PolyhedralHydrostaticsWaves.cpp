@@ -28,6 +28,7 @@
 #include "hydrostatics/HydrostaticSums.hpp"
 #include "hydrostatics/LocalSurfaceModel.hpp"
 #include "hydrostatics/PolyhedralFlatSums.hpp"
+#include "hydrostatics/TriangleQuadrature.hpp"
 #include "hydrostatics/WetTriangleClipping.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
@@ -272,11 +273,57 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     if (highestDepth >= -margin) clip(c, &model, curvature, edgeSquared, height);
     return false;
   };
+  // A triangle too wide for one model that lies wholly under the surface (a box's bottom face):
+  // true when added, its flat part from its constants and its wave part from the means of the
+  // jets' interpolant over n^2 similar pieces, each by the six-point rule of degree 4
+  // (TriangleQuadrature.hpp), within sampledBoundOver() of the surface's means. That bound goes
+  // as rho^4 where a model's goes as rho^3 with the interpolant's slope and curvature errors
+  // besides, so the pieces are wider than a model's (0.26 against 0.165 m under bench_peers'
+  // waves) and each costs six heights, not a model. Wholly under: its corners lie deeper under
+  // a model over its whole footprint than that model's wider bound and its curvature's reach
+  // between them. False (nothing added) where no n <= kMaxModelSplit meets the tolerance, the
+  // triangle may be wet only in part, or a height is missing.
+  auto addSampled = [&](const Corners& c, const TriangleConstants& k, double radius, double cx, double cz) {
+    int n = 1;
+    while (n < kMaxModelSplit && models.sampledBoundOver(radius / n) > models.tolerance()) ++n;
+    if (models.sampledBoundOver(radius / n) > models.tolerance()) return false;
+    SurfaceModel whole;
+    if (!models.anyOver(ModelFootprint{cx, cz, 0.0, 0.0, radius}, whole)) return false;
+    const double margin = whole.curvatureNorm() * longestHorizontalEdgeSquared(c) / 6.0 + whole.bound;
+    for (const Eigen::Vector3d& w : c.posed)
+      if (!(whole.at(w.x(), w.z()) - w.y() > margin)) return false;
+    double meanHeight = 0.0, meanHeightPoint[3] = {0.0, 0.0, 0.0}, meanSquaredHeight = 0.0;
+    bool found = true;
+    forEachPiece(c, n, [&](const Corners& p) {
+      for (const TriangleQuadraturePoint& point : kTriangleRuleDegree4) {
+        const Eigen::Vector3d posed = point.a * p.posed[0] + point.b * p.posed[1] + point.c * p.posed[2];
+        double height;
+        if (!models.heightAt(posed.x(), posed.z(), height)) {
+          found = false;
+          continue;
+        }
+        const Eigen::Vector3d body = point.a * p.body[0] + point.b * p.body[1] + point.c * p.body[2];
+        const double weighted = point.weight * height;
+        meanHeight += weighted;
+        for (int a = 0; a < 3; ++a) meanHeightPoint[a] += weighted * body[a];
+        meanSquaredHeight += weighted * height;
+      }
+    });
+    if (!found) return false;
+    // The n^2 pieces have equal areas: the triangle's means are their means' mean.
+    const double share = 1.0 / double(n * n);
+    for (double& m : meanHeightPoint) m *= share;
+    models.addSampledTriangle(k.area, k.areaVector, k.centroid, k.secondMoments, meanHeight * share, meanHeightPoint,
+                              meanSquaredHeight * share);
+    done.sampledPieces += std::size_t(n * n);
+    return true;
+  };
   // A triangle with a model of its own, or split into pieces that each have one: n^2 similar
   // pieces, or 2k - 1 strips across its length where that takes fewer (a sliver).
   auto addAlone = [&](const Corners& c, const TriangleConstants& k) {
     double cx, cz;
     const double radius = footprintRadius(c, cx, cz);
+    if (addSampled(c, k, radius, cx, cz)) return;
     const auto fits = [&](double pieceRadius) { return models.boundOver(pieceRadius) <= models.tolerance(); };
     int n = 1;
     while (n < kMaxModelSplit && !fits(radius / n)) ++n;

@@ -128,7 +128,8 @@ double waterlineFactor(const Mesh& mesh);
 
 /// The modeled time (us) of an exact query on a prepared mesh that did `work` under waves: each
 /// unit of work at its cost, 0.05 a node visited, 0.10 a local model, 0.045 a triangle clipped,
-/// 0.31 a height asked of the surface itself and 0.19 a jet sampled. Fitted (least squares on
+/// 0.31 a height asked of the surface itself, 0.19 a jet sampled and 0.05 a sampled piece (not
+/// fitted: about 520 instructions a piece besides its jets in callgrind, half a model's). Fitted (least squares on
 /// relative error) to 30 (mesh, sea) pairs: box, 162-vertex hull, Wigley hull, ship, log, buoys,
 /// torus and spheres of data/meshes under bench_peers' swell, log_waves' and the tests' steep sea,
 /// 100 poses each (2-core reference machine, 2026-11): within 14 % of the measured time on average,

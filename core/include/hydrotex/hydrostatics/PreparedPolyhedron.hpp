@@ -53,6 +53,7 @@ struct ExactWaveWork {
   std::size_t clippedTriangles = 0;  ///< triangles clipped against a model or the surface (after their split)
   std::size_t surfaceHeights = 0;    ///< heights asked of the surface itself (no model within the tolerance)
   std::size_t jets = 0;              ///< surface jets sampled for the models' interpolation grid
+  std::size_t sampledPieces = 0;     ///< pieces of wholly wet triangles integrated from six interpolated heights each
 };
 
 /// A closed mesh, its per-triangle constants and their hierarchy (read-only once made; share it
