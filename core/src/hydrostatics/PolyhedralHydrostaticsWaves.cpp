@@ -283,12 +283,10 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   // a model over its whole footprint than that model's wider bound and its curvature's reach
   // between them. False (nothing added) where no n <= kMaxModelSplit meets the tolerance, the
   // triangle may be wet only in part, or a height is missing.
-  auto addSampled = [&](const Corners& c, const TriangleConstants& k, double radius, double cx, double cz) {
+  auto addSampled = [&](const Corners& c, const TriangleConstants& k, double radius, const SurfaceModel& whole) {
     int n = 1;
     while (n < kMaxModelSplit && models.sampledBoundOver(radius / n) > models.tolerance()) ++n;
     if (models.sampledBoundOver(radius / n) > models.tolerance()) return false;
-    SurfaceModel whole;
-    if (!models.anyOver(ModelFootprint{cx, cz, 0.0, 0.0, radius}, whole)) return false;
     const double margin = whole.curvatureNorm() * longestHorizontalEdgeSquared(c) / 6.0 + whole.bound;
     for (const Eigen::Vector3d& w : c.posed)
       if (!(whole.at(w.x(), w.z()) - w.y() > margin)) return false;
@@ -323,21 +321,35 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   auto addAlone = [&](const Corners& c, const TriangleConstants& k) {
     double cx, cz;
     const double radius = footprintRadius(c, cx, cz);
-    if (addSampled(c, k, radius, cx, cz)) return;
+    // A model over the whole footprint with its wider bound: the triangle wholly under it is
+    // sampled (addSampled); the triangle, or a piece of it, wholly over it is dry and asks no
+    // model of its own.
+    SurfaceModel whole;
+    const bool hasWhole = models.anyOver(ModelFootprint{cx, cz, 0.0, 0.0, radius}, whole);
+    const double wholeCurvature = hasWhole ? whole.curvatureNorm() : 0.0;
+    const auto overWhole = [&](const Corners& p) {
+      if (!hasWhole) return false;
+      const double margin = wholeCurvature * longestHorizontalEdgeSquared(p) / 6.0 + whole.bound;
+      for (const Eigen::Vector3d& w : p.posed)
+        if (!(w.y() - whole.at(w.x(), w.z()) > margin)) return false;
+      return true;
+    };
+    if (overWhole(c) || (hasWhole && addSampled(c, k, radius, whole))) return;
     const auto fits = [&](double pieceRadius) { return models.boundOver(pieceRadius) <= models.tolerance(); };
     int n = 1;
     while (n < kMaxModelSplit && !fits(radius / n)) ++n;
     const bool latticeFits = fits(radius / n);
     // The piece under a model over its own footprint (`pieceRadius` about its centroid), or, with no
     // model within the tolerance there, clipped under the surface's own heights at its corners.
-    const auto addPiece = [&](const Corners& p, double px, double pz, double pieceRadius, bool whole) {
+    const auto addPiece = [&](const Corners& p, double px, double pz, double pieceRadius, bool isWhole) {
+      if (overWhole(p)) return;
       SurfaceModel model;
       if (!models.over(ModelFootprint{px, pz, 0.0, 0.0, pieceRadius}, model)) {
         clip(p, nullptr, 0.0, 0.0);
         return;
       }
       if (!addUnder(p, model, model.curvatureNorm())) return;
-      const TriangleConstants pk = whole ? k : triangleConstants(p.body[0].data(), p.body[1].data(), p.body[2].data());
+      const TriangleConstants pk = isWhole ? k : triangleConstants(p.body[0].data(), p.body[1].data(), p.body[2].data());
       models.addSubmergedTriangle(pk.area, pk.areaVector, pk.centroid, pk.secondMoments, model);
     };
     if (n > 1) {
