@@ -200,6 +200,8 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   WettedSums sums;
   bool surfaceFailed = false;  // a corner's height from the surface itself was not finite
   ExactWaveWork done;          // what the walk does (`work`)
+  // The wet parts of clipped triangles, summed in lanes a batch at a time (WetTriangleClipping.hpp).
+  WetTriangleBatch wetBatch;
 
   // Clips the triangle `c` where the depth below the model (or, model null, below the surface's own
   // heights at its corners) changes sign, split first so that the model, taken linear between
@@ -224,7 +226,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
         corner[k] = {w.x(), w.y(), w.z(), cornerHeights[k] - w.y()};
       }
       const SurfaceVertex* whole[3] = {&corner[0], &corner[1], &corner[2]};
-      addClippedWetTriangle(sums, whole);
+      batchClippedWetTriangle(wetBatch, sums, whole);
       return;
     }
     // The (m + 1)(m + 2) / 2 lattice points L(i, j) = c0 + i/m (c1 - c0) + j/m (c2 - c0), row i
@@ -248,10 +250,10 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m - i; ++j) {
         const SurfaceVertex* up[3] = {at(i, j), at(i + 1, j), at(i, j + 1)};
-        addClippedWetTriangle(sums, up);
+        batchClippedWetTriangle(wetBatch, sums, up);
         if (j < m - i - 1) {
           const SurfaceVertex* down[3] = {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
-          addClippedWetTriangle(sums, down);
+          batchClippedWetTriangle(wetBatch, sums, down);
         }
       }
   };
@@ -621,6 +623,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     i = node.next;
   }
   if (covering) endCovering();
+  if (wetBatch.count > 0) flushWetTriangles(wetBatch, sums);
   if (work) {
     done.models = models.interpolations();
     done.jets = models.grid().sampled();
