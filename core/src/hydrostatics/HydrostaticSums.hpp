@@ -115,6 +115,33 @@ struct WettedSums {
                            const Eigen::Vector3d& offset);
 };
 
+/// WettedSums' element sums, one per lane (addElementTerms and addWetTriangleTo add to them; the
+/// texels under waves, WaveTexelLanes.hpp, and the exact path's wet triangles,
+/// WetTriangleClipping.hpp). Value-initialize it ({}) for zeros.
+template <class L>
+struct WettedLaneSums {
+  L sumDA[3], sumDxA[3], sumDXAy, sumDZAy, sumYB, sumAy, sumXAy, sumZAy, sumXXAy, sumXZAy, sumZZAy, wettedArea;
+};
+
+/// Adds the lanes' totals of `lanes` to `out`.
+template <class L>
+inline void addLaneTotals(WettedSums& out, const WettedLaneSums<L>& lanes) {
+  for (int k = 0; k < 3; ++k) {
+    out.sumDA[k] += lanes.sumDA[k].sum();
+    out.sumDxA[k] += lanes.sumDxA[k].sum();
+  }
+  out.sumDXAy += lanes.sumDXAy.sum();
+  out.sumDZAy += lanes.sumDZAy.sum();
+  out.sumYB += lanes.sumYB.sum();
+  out.sumAy += lanes.sumAy.sum();
+  out.sumXAy += lanes.sumXAy.sum();
+  out.sumZAy += lanes.sumZAy.sum();
+  out.sumXXAy += lanes.sumXXAy.sum();
+  out.sumXZAy += lanes.sumXZAy.sum();
+  out.sumZZAy += lanes.sumZZAy.sum();
+  out.wettedArea += lanes.wettedArea.sum();
+}
+
 /// The moment corrections of many texels (SurfaceTextures::momentCorrection) summed in the body
 /// frame of their moments dM, so that no texel pays for dm = R dM R^T: every term below is linear
 /// in dM, so the rotation R (any matrix: the engine's is orthogonal only to ~1e-7) is applied

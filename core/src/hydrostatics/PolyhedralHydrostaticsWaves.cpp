@@ -281,17 +281,14 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   // (TriangleQuadrature.hpp), within sampledBoundOver() of the surface's means. That bound goes
   // as rho^4 where a model's goes as rho^3 with the interpolant's slope and curvature errors
   // besides, so the pieces are wider than a model's (0.26 against 0.165 m under bench_peers'
-  // waves) and each costs six heights, not a model. Wholly under: its corners lie deeper under
-  // a model over its whole footprint than that model's wider bound and its curvature's reach
-  // between them. False (nothing added) where no n <= kMaxModelSplit meets the tolerance, the
-  // triangle may be wet only in part, or a height is missing.
-  auto addSampled = [&](const Corners& c, const TriangleConstants& k, double radius, const SurfaceModel& whole) {
+  // waves) and each costs six heights, not a model. The caller has found it wholly under (its
+  // corners deeper under a model over its whole footprint than that model's wider bound and its
+  // curvature's reach between them: addAlone's sideOf). False (nothing added) where no
+  // n <= kMaxModelSplit meets the tolerance or a height is missing.
+  auto addSampled = [&](const Corners& c, const TriangleConstants& k, double radius) {
     int n = 1;
     while (n < kMaxModelSplit && models.sampledBoundOver(radius / n) > models.tolerance()) ++n;
     if (models.sampledBoundOver(radius / n) > models.tolerance()) return false;
-    const double margin = whole.curvatureNorm() * longestHorizontalEdgeSquared(c) / 6.0 + whole.bound;
-    for (const Eigen::Vector3d& w : c.posed)
-      if (!(whole.at(w.x(), w.z()) - w.y() > margin)) return false;
     double meanHeight = 0.0, meanHeightPoint[3] = {0.0, 0.0, 0.0}, meanSquaredHeight = 0.0;
     bool found = true;
     forEachPiece(c, n, [&](const Corners& p) {
@@ -329,14 +326,21 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     SurfaceModel whole;
     const bool hasWhole = models.anyOver(ModelFootprint{cx, cz, 0.0, 0.0, radius}, whole);
     const double wholeCurvature = hasWhole ? whole.curvatureNorm() : 0.0;
-    const auto overWhole = [&](const Corners& p) {
-      if (!hasWhole) return false;
+    // +1 when `p` lies wholly under the surface by that model, -1 wholly over, 0 either: its
+    // corners' depths under the model beyond its bound and its sag between them.
+    const auto sideOf = [&](const Corners& p) {
+      if (!hasWhole) return 0;
       const double margin = wholeCurvature * longestHorizontalEdgeSquared(p) / 6.0 + whole.bound;
-      for (const Eigen::Vector3d& w : p.posed)
-        if (!(w.y() - whole.at(w.x(), w.z()) > margin)) return false;
-      return true;
+      bool under = true, over = true;
+      for (const Eigen::Vector3d& w : p.posed) {
+        const double depth = whole.at(w.x(), w.z()) - w.y();
+        under = under && depth > margin;
+        over = over && -depth > margin;
+      }
+      return under ? 1 : over ? -1 : 0;
     };
-    if (overWhole(c) || (hasWhole && addSampled(c, k, radius, whole))) return;
+    const int side = sideOf(c);
+    if (side < 0 || (side > 0 && addSampled(c, k, radius))) return;
     const auto fits = [&](double pieceRadius) { return models.boundOver(pieceRadius) <= models.tolerance(); };
     int n = 1;
     while (n < kMaxModelSplit && !fits(radius / n)) ++n;
@@ -344,7 +348,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     // The piece under a model over its own footprint (`pieceRadius` about its centroid), or, with no
     // model within the tolerance there, clipped under the surface's own heights at its corners.
     const auto addPiece = [&](const Corners& p, double px, double pz, double pieceRadius, bool isWhole) {
-      if (overWhole(p)) return;
+      if (sideOf(p) < 0) return;
       SurfaceModel model;
       if (!models.over(ModelFootprint{px, pz, 0.0, 0.0, pieceRadius}, model)) {
         clip(p, nullptr, 0.0, 0.0);

@@ -36,12 +36,6 @@ struct WaveTexelInput {
   double highest;
 };
 
-/// WettedSums' element sums, one per lane (addElementTerms adds to them).
-template <class L>
-struct WettedLaneSums {
-  L sumDA[3], sumDxA[3], sumDXAy, sumDZAy, sumYB, sumAy, sumXAy, sumZAy, sumXXAy, sumXZAy, sumZZAy, wettedArea;
-};
-
 /// Floats in a packed texel, and where its fields start.
 inline constexpr unsigned kTexelFloats = sizeof(TextureHydrostatics::Texel) / sizeof(float);
 static_assert(sizeof(TextureHydrostatics::Texel) == kTexelFloats * sizeof(float), "a texel is floats only");
@@ -131,20 +125,7 @@ inline std::uint32_t sumWaveTexelLanes(const WaveTexelInput& in, WettedSums& out
     const L wx = x0 * ax + x1 * ay + x2 * az, wy = y0 * ax + y1 * ay + y2 * az, wz = z0 * ax + z1 * ay + z2 * az;
     addElementTerms(lanes, x, y, z, wx, wy, wz, field(kArea), fraction, depth, depthSq, localHeight);
   }
-  for (int k = 0; k < 3; ++k) {
-    out.sumDA[k] += lanes.sumDA[k].sum();
-    out.sumDxA[k] += lanes.sumDxA[k].sum();
-  }
-  out.sumDXAy += lanes.sumDXAy.sum();
-  out.sumDZAy += lanes.sumDZAy.sum();
-  out.sumYB += lanes.sumYB.sum();
-  out.sumAy += lanes.sumAy.sum();
-  out.sumXAy += lanes.sumXAy.sum();
-  out.sumZAy += lanes.sumZAy.sum();
-  out.sumXXAy += lanes.sumXXAy.sum();
-  out.sumXZAy += lanes.sumXZAy.sum();
-  out.sumZZAy += lanes.sumZZAy.sum();
-  out.wettedArea += lanes.wettedArea.sum();
+  addLaneTotals(out, lanes);
   return in.end;
 }
 

@@ -41,7 +41,7 @@ struct SurfaceVertex {
 ///            f = 1, x', z', x'^2, x' z', z'^2, by (1) again.
 ///
 /// Written once for a number type T and a sums type (WettedSums for double, one triangle;
-/// WetTriangleSums of DoubleLanes or QuadLanes for two or four, each lane with the same operations
+/// WettedLaneSums of DoubleLanes or QuadLanes for two or four, each lane with the same operations
 /// in the same order, so that a lane rounds as the scalar law does).
 template <class T, class Sums>
 inline void addWetTriangleTo(Sums& sums, const T (&a)[3], const T (&b)[3], const T (&c)[3], T da, T db, T dc) {
@@ -126,15 +126,6 @@ inline void addClippedWetTriangle(WettedSums& sums, const SurfaceVertex* p[3]) {
                         double dc) { addWetTriangle(sums, a, b, c, da, db, dc); });
 }
 
-/// WettedSums' fields that addWetTriangleTo adds, in a number type T (lanes).
-template <class T>
-struct WetTriangleSums {
-  T sumDA[3] = {T(0.0), T(0.0), T(0.0)};
-  T sumDxA[3] = {T(0.0), T(0.0), T(0.0)};
-  T sumDXAy = T(0.0), sumDZAy = T(0.0), sumYB = T(0.0), sumAy = T(0.0), sumXAy = T(0.0), sumZAy = T(0.0);
-  T sumXXAy = T(0.0), sumXZAy = T(0.0), sumZZAy = T(0.0), wettedArea = T(0.0);
-};
-
 /// Wet triangles (the parts forEachWetPart finds) gathered for the lanes, in columns: the
 /// prepared path under waves clips a few hundred a query along the water line (the 17,160-face
 /// sphere: their law was 17 % of its step's instructions one by one). A padded entry (all zero)
@@ -170,7 +161,7 @@ struct WetTriangleBatch {
 /// Adds the batch's triangles (count a multiple of L::kWidth) to `out`, L::kWidth at a time.
 template <class L>
 inline void sumWetTriangleLanes(const WetTriangleBatch& in, WettedSums& out) {
-  WetTriangleSums<L> lanes;
+  WettedLaneSums<L> lanes{};  // value-initialized: zeros
   for (unsigned e = 0; e < in.count; e += L::kWidth) {
     L p[3][3];
     for (int c = 0; c < 3; ++c)
@@ -178,20 +169,7 @@ inline void sumWetTriangleLanes(const WetTriangleBatch& in, WettedSums& out) {
     addWetTriangleTo<L>(lanes, p[0], p[1], p[2], L::loadDoubles(in.depth[0] + e), L::loadDoubles(in.depth[1] + e),
                         L::loadDoubles(in.depth[2] + e));
   }
-  for (int k = 0; k < 3; ++k) {
-    out.sumDA[k] += lanes.sumDA[k].sum();
-    out.sumDxA[k] += lanes.sumDxA[k].sum();
-  }
-  out.sumDXAy += lanes.sumDXAy.sum();
-  out.sumDZAy += lanes.sumDZAy.sum();
-  out.sumYB += lanes.sumYB.sum();
-  out.sumAy += lanes.sumAy.sum();
-  out.sumXAy += lanes.sumXAy.sum();
-  out.sumZAy += lanes.sumZAy.sum();
-  out.sumXXAy += lanes.sumXXAy.sum();
-  out.sumXZAy += lanes.sumXZAy.sum();
-  out.sumZZAy += lanes.sumZZAy.sum();
-  out.wettedArea += lanes.wettedArea.sum();
+  addLaneTotals(out, lanes);
 }
 
 /// Adds the batch's triangles to `out` one by one (the scalar law; where there are no lanes).
