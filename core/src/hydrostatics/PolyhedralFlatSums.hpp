@@ -9,6 +9,7 @@
 /// body frame (10 sums, where the full body moments take 30), turned into the world sums once.
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -78,6 +79,8 @@ inline TriangleConstants triangleConstants(const double a[3], const double b[3],
 /// crosses (its triangles one by one) against the nodes opened above it (bench_peers, Wigley hull
 /// of 4,222 triangles: commit e045bbd). The walks under waves list a leaf's triangles on the stack.
 inline constexpr std::size_t kMaxLeafTriangles = 8;
+/// Most distinct vertices in a leaf (three corners a triangle).
+inline constexpr std::size_t kMaxLeafVertices = 3 * kMaxLeafTriangles;
 
 /// A node of a prepared mesh's bounding-volume hierarchy (PreparedPolyhedron): a box around nearby
 /// triangles, with their constants summed (NodeSums, alongside). The sums are linear in the up
@@ -115,6 +118,14 @@ struct PreparedTriangles {
   std::vector<std::uint32_t> constantIndex;  ///< triangle k's constants are constantsOf->constants[constantIndex[k]]
   std::vector<TriangleNode> nodes;
   std::vector<NodeSums> sums;
+  /// Each leaf's distinct vertices, so that a walk under waves poses a vertex that several of the
+  /// leaf's triangles share, and asks a model its height, once (a fine mesh's leaf of 8 triangles
+  /// has about 8 vertices to its 24 corners): the leaves' vertices (mesh indices) leaf after leaf,
+  /// node i's being leafVertices[vertexBegin[i], vertexBegin[i + 1]) (none for an inner node),
+  /// and for triangle k (this layout's order) its corners' places in its leaf's list.
+  std::vector<std::uint32_t> leafVertices;
+  std::vector<std::uint32_t> vertexBegin;                  ///< nodes.size() + 1 entries
+  std::vector<std::array<std::uint8_t, 3>> leafCorners;    ///< triangles.size() entries
   /// The constants of triangle k (this layout's order).
   const TriangleConstants& constant(std::size_t k) const {
     return constantsOf ? constantsOf->constants[constantIndex[k]] : constants[k];

@@ -19,6 +19,7 @@
 /// fine one (a ship's hull) pays per triangle only along its water line.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -259,14 +260,16 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
   };
   // The triangle `c` under `model` (`curvature`: its curvatureNorm()): true when wholly under it
   // (the caller adds its moments to the model's wave part); wholly over, nothing; else clipped.
-  auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature) {
+  // `knownHeights` (may be null): the model's heights at c's corners, already asked.
+  auto addUnder = [&](const Corners& c, const SurfaceModel& model, double curvature,
+                      const double* knownHeights = nullptr) {
     ++done.pieces;
     const double edgeSquared = longestHorizontalEdgeSquared(c);
     const double margin = curvature * edgeSquared / 6.0;
     double lowest = INFINITY, highestDepth = -INFINITY, height[3];
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d& w = c.posed[k];
-      height[k] = model.at(w.x(), w.z());
+      height[k] = knownHeights ? knownHeights[k] : model.at(w.x(), w.z());
       const double depth = height[k] - w.y();
       lowest = std::min(lowest, depth);
       highestDepth = std::max(highestDepth, depth);
@@ -422,13 +425,23 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
 
   const auto& positions = mesh.positions;
   const std::vector<TriangleNode>& nodes = prepared.nodes;
-  // Triangle k of the prepared order posed into `c`; false when it lies over every crest.
-  auto poseTriangle = [&](std::uint32_t k, Corners& c) {
+  // The open leaf's distinct vertices (PreparedTriangles::leafVertices), posed once each: a vertex
+  // is shared by up to six of the leaf's triangles.
+  Eigen::Vector3d leafPosed[kMaxLeafVertices];
+  // Poses leaf `node`'s vertices into leafPosed; returns how many.
+  auto poseLeaf = [&](std::size_t node) {
+    const std::uint32_t first = prepared.vertexBegin[node], end = prepared.vertexBegin[node + 1];
+    for (std::uint32_t v = first; v < end; ++v) leafPosed[v - first] = r * positions[prepared.leafVertices[v]] + offset;
+    return end - first;
+  };
+  // Triangle k of the posed leaf into `c`; false when it lies over every crest.
+  auto leafTriangle = [&](std::uint32_t k, Corners& c) {
     const Eigen::Vector3i& tri = prepared.triangles[k];
+    const std::array<std::uint8_t, 3>& place = prepared.leafCorners[k];
     double lowest = INFINITY;
     for (int a = 0; a < 3; ++a) {
       c.body[a] = positions[std::size_t(tri[a])];
-      c.posed[a] = r * c.body[a] + offset;
+      c.posed[a] = leafPosed[place[std::size_t(a)]];
       lowest = std::min(lowest, c.posed[a].y());
     }
     return lowest < highest;
@@ -586,11 +599,17 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     // under the model, the node's summed moments instead of theirs.
     if (covering) {
       // The wholly wet triangles are listed first, so that a leaf wholly under pays no
-      // per-triangle moments.
+      // per-triangle moments. Each vertex asks the model once.
+      const std::uint32_t vertices = poseLeaf(i);
+      double leafHeight[kMaxLeafVertices];
+      for (std::uint32_t v = 0; v < vertices; ++v) leafHeight[v] = covering->model.at(leafPosed[v].x(), leafPosed[v].z());
       std::uint32_t listed[kMaxLeafTriangles], under = 0;
       for (std::uint32_t k = node.begin; k < node.end; ++k) {
         Corners c;
-        if (poseTriangle(k, c) && addUnder(c, covering->model, covering->curvature)) listed[under++] = k;
+        if (!leafTriangle(k, c)) continue;
+        const std::array<std::uint8_t, 3>& place = prepared.leafCorners[k];
+        const double heights[3] = {leafHeight[place[0]], leafHeight[place[1]], leafHeight[place[2]]};
+        if (addUnder(c, covering->model, covering->curvature, heights)) listed[under++] = k;
       }
       if (under == node.end - node.begin) {
         addMoments(covering->under, prepared.sums[i]);
@@ -606,9 +625,10 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
     // is split (addAlone). On the 162-vertex hull under peers_waves' waves, 145 triangles a query
     // took a model each.
     Group group;
+    poseLeaf(i);
     for (std::uint32_t k = node.begin; k < node.end; ++k) {
       Corners c;
-      if (!poseTriangle(k, c)) continue;
+      if (!leafTriangle(k, c)) continue;
       double fromX = INFINITY, toX = -INFINITY, fromZ = INFINITY, toZ = -INFINITY;
       for (const Eigen::Vector3d& w : c.posed) {
         fromX = std::min(fromX, w.x());

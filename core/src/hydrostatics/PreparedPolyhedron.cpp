@@ -141,6 +141,31 @@ std::vector<std::uint32_t> buildHierarchy(const Mesh& mesh, const std::vector<de
   return order;
 }
 
+/// `layout`'s leaves' distinct vertices and its triangles' places among them
+/// (PreparedTriangles::leafVertices), in the leaves' order.
+void indexLeafVertices(detail::PreparedTriangles& layout) {
+  const std::size_t nodeCount = layout.nodes.size();
+  layout.vertexBegin.assign(nodeCount + 1, 0);
+  layout.leafCorners.resize(layout.triangles.size());
+  layout.leafVertices.reserve(layout.triangles.size() * 3);
+  for (std::size_t i = 0; i < nodeCount; ++i) {
+    const std::size_t first = layout.leafVertices.size();
+    layout.vertexBegin[i] = std::uint32_t(first);
+    const detail::TriangleNode& node = layout.nodes[i];
+    if (node.next != i + 1) continue;  // an inner node
+    for (std::uint32_t k = node.begin; k < node.end; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const auto vertex = std::uint32_t(layout.triangles[k][c]);
+        std::size_t place = first;
+        while (place < layout.leafVertices.size() && layout.leafVertices[place] != vertex) ++place;
+        if (place == layout.leafVertices.size()) layout.leafVertices.push_back(vertex);
+        layout.leafCorners[k][std::size_t(c)] = std::uint8_t(place - first);
+      }
+  }
+  layout.vertexBegin[nodeCount] = std::uint32_t(layout.leafVertices.size());
+  layout.leafVertices.shrink_to_fit();
+}
+
 }  // namespace
 
 Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const Mesh> mesh) {
@@ -176,9 +201,12 @@ Expected<PreparedPolyhedron> PreparedPolyhedron::prepare(std::shared_ptr<const M
   const std::vector<std::uint32_t> wavesOrder = buildHierarchy(*mesh, constants, 1.0, *waves);
   PreparedPolyhedron body;
   body.flatTriangles_ = flat;
+  // Only the walk under waves reads the leaves' vertices: its layout's.
   if (wavesOrder == flatOrder) {
+    indexLeafVertices(*flat);
     body.triangles_ = flat;
   } else {
+    indexLeafVertices(*waves);
     std::vector<std::uint32_t> flatPlace(triangleCount);
     for (std::size_t k = 0; k < triangleCount; ++k) flatPlace[flatOrder[k]] = std::uint32_t(k);
     waves->constantIndex.reserve(triangleCount);
@@ -196,7 +224,8 @@ std::size_t PreparedPolyhedron::memoryBytes() const {
   const auto bytes = [](const detail::PreparedTriangles& t) {
     return t.triangles.capacity() * sizeof(Eigen::Vector3i) + t.constants.capacity() * sizeof(detail::TriangleConstants) +
            t.constantIndex.capacity() * sizeof(std::uint32_t) + t.nodes.capacity() * sizeof(detail::TriangleNode) +
-           t.sums.capacity() * sizeof(detail::NodeSums);
+           t.sums.capacity() * sizeof(detail::NodeSums) + t.leafVertices.capacity() * sizeof(std::uint32_t) +
+           t.vertexBegin.capacity() * sizeof(std::uint32_t) + t.leafCorners.capacity() * sizeof(std::array<std::uint8_t, 3>);
   };
   if (!triangles_) return 0;
   return bytes(*triangles_) + (flatTriangles_ != triangles_ ? bytes(*flatTriangles_) : 0);
