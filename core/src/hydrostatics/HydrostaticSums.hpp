@@ -89,6 +89,15 @@ struct WettedSums {
     sumZZAy += w * 2.0 * z * column.z();
   }
 
+  /// The pressure sums of the hydrostatic pressure p = rho g D on every element (`rhoG`, N/m^3):
+  /// the depth sums times -rho g (the surfaces whose pressure is the depth's: waves, grids).
+  inline void setHydrostaticPressure(double rhoG) {
+    for (int k = 0; k < 3; ++k) {
+      pressureForce[k] = -rhoG * sumDA[k];
+      pressureTorque[k] = -rhoG * sumDxA[k];
+    }
+  }
+
   /// Adds another set of sums (the same frame).
   inline void add(const WettedSums& o) {
     for (int k = 0; k < 3; ++k) {

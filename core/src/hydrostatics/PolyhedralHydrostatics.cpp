@@ -381,11 +381,7 @@ Expected<HydrostaticsResult> polyhedralHydrostaticsUnchecked(const Mesh& mesh, c
       const SurfaceVertex* p[3] = {&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]};
       addClippedWetTriangle(sums, p);
     }
-    const double rhoG = surface.density() * query.gravity;
-    for (int k = 0; k < 3; ++k) {
-      sums.pressureForce[k] = -rhoG * sums.sumDA[k];
-      sums.pressureTorque[k] = -rhoG * sums.sumDxA[k];
-    }
+    sums.setHydrostaticPressure(surface.density() * query.gravity);
   } else {
     // No free surface: all of the body is submerged; the medium's pressure is integrated per
     // triangle at its centroid (exact when the density is constant: p is then linear).

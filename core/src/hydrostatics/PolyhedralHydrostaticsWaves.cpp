@@ -659,11 +659,7 @@ std::optional<Expected<HydrostaticsResult>> wavePolyhedralHydrostatics(const Mes
 
   models.addFlatPart(sums);
   models.addWavePart(sums);
-  const double rhoG = surface.density() * query.gravity;
-  for (int k = 0; k < 3; ++k) {
-    sums.pressureForce[k] = -rhoG * sums.sumDA[k];
-    sums.pressureTorque[k] = -rhoG * sums.sumDxA[k];
-  }
+  sums.setHydrostaticPressure(surface.density() * query.gravity);
   HydrostaticsResult result = finishHydrostatics(sums, origin, surface.density(), query, ForceModel::PressureSums, true);
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
     return Expected<HydrostaticsResult>(Error{"exact hydrostatics: non-finite result (a vertex of the mesh is NaN or infinite)"});

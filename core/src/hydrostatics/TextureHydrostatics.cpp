@@ -112,10 +112,7 @@ inline void addWaveCorrections(detail::WettedSums& sums, const detail::MomentCor
                                const Eigen::Matrix3d& r, double rhoG) {
   detail::WettedSums part;
   corrections.addTo(part, r);
-  for (int k = 0; k < 3; ++k) {
-    part.pressureForce[k] = -rhoG * part.sumDA[k];
-    part.pressureTorque[k] = -rhoG * part.sumDxA[k];
-  }
+  part.setHydrostaticPressure(rhoG);
   sums.add(part);
 }
 

@@ -237,11 +237,7 @@ std::optional<HydrostaticsResult> TextureHydrostatics::queryWaves(const LiquidSu
   corrections.addTo(sums, r);
   models.addWavePart(sums);
   // p = rho g D on every element: the pressure sums are the depth sums times -rho g.
-  const double rhoG = surface.density() * q.gravity;
-  for (int k = 0; k < 3; ++k) {
-    sums.pressureForce[k] = -rhoG * sums.sumDA[k];
-    sums.pressureTorque[k] = -rhoG * sums.sumDxA[k];
-  }
+  sums.setHydrostaticPressure(surface.density() * q.gravity);
   return detail::finishHydrostatics(sums, origin, surface.density(), q, detail::ForceModel::PressureSums, true);
 }
 
