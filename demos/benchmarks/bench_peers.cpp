@@ -13,8 +13,8 @@
 // Beside the controller's figure, for bodies on the exact path, the per-step core calls on the same
 // states, timed alone: "exact us" polyhedralHydrostaticsUnchecked on the mesh, "prep us"
 // polyhedralHydrostatics on a PreparedPolyhedron (what the controller calls; to rounding the
-// same) and "closed" sphereHydrostatics (what it could call: a sphere's closed form in flat
-// water), "update us" implicitVelocityUpdate with those loads and stiffness (every body's step
+// same) and "closed" sphereHydrostatics (what the controller calls for a sphere: its closed form
+// in flat water, its rule on the true sphere under waves), "update us" implicitVelocityUpdate with those loads and stiffness (every body's step
 // solves it), "mdrag us" rigidBodyDrag on meshDragPatches with the law's whole derivative (what
 // the controller makes for a rigid body, on either path, no bake) and "drag us" the same law on
 // texel patches from a 256^2 bake with the secant damping (what a deforming body takes); the rest
@@ -135,7 +135,7 @@ struct Pass {
   double meanVerticalSpeed = 0.0;///< m/s, mean |v_y| over the bodies after the timed steps
   double hydrostaticsUs = 0.0;   ///< exact path alone, same states (0: not measured)
   double preparedUs = 0.0;       ///< exact path on a PreparedPolyhedron, same states (0: not measured)
-  double closedFormUs = 0.0;     ///< a sphere's closed form (sphereHydrostatics), same states (0: not a sphere)
+  double closedFormUs = 0.0;     ///< a sphere's closed form or rule (sphereHydrostatics), same states (0: not a sphere)
   double updateUs = 0.0;         ///< implicitVelocityUpdate with the exact hydrostatics' loads, same states
   double dragUs = 0.0;           ///< drag alone, same states (0: not measured)
   double meshDragUs = 0.0;       ///< drag alone on meshDragPatches (same settings), same states
@@ -244,7 +244,7 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                                 sink += answer->buoyancyForce.y();
                         }) / (repeats * double(queries.size()));
   // What the controller would call instead: the exact path on the mesh prepared once, and for a
-  // sphere (flat water only) its closed form.
+  // sphere its closed form (flat water) or its rule (waves).
   const Expected<PreparedPolyhedron> polyhedron = PreparedPolyhedron::prepare(mesh);
   if (polyhedron)
     pass.preparedUs = 1e3 * bench::medianMs(5, [&] {
@@ -275,8 +275,8 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
                             sink += next->linear.y();
                     }) / (updateRepeats * double(std::max<std::size_t>(updates.size(), 1)));
   }
-  if (prototype.shape && prototype.shape->type == SceneShape::Type::Sphere && surface.flatHeight()) {
-    const int sphereRepeats = 200;
+  if (prototype.shape && prototype.shape->type == SceneShape::Type::Sphere) {
+    const int sphereRepeats = surface.flatHeight() ? 200 : 20;
     pass.closedFormUs = 1e3 * bench::medianMs(5, [&] {
                           for (int k = 0; k < sphereRepeats; ++k)
                             for (const HydrostaticsQuery& query : queries)

@@ -182,9 +182,10 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   // A true sphere (a btSphereShape with no mesh given): its closed forms (core's
   // PrimitiveHydrostatics and PrimitiveMassProperties) instead of the exact path on its tessellation,
   // which is up to 1e-3 lighter and slower, unless the texture path is asked for or something needs
-  // the texels (a mass model, deformation). Under waves or a height grid the closed form does not
-  // hold, and the exact path on the fine tessellation costs about 1.6 ms a query (the surface asked
-  // at 8,600 vertices): there Auto chooses between its tessellation's paths as for any mesh.
+  // the texels (a mass model, deformation). Under waves (a surface with smoothness bounds) its rule
+  // on the true sphere (core's SphereHydrostaticsWaves.cpp), or the exact path on its tessellation
+  // where the rule does not apply (the water line near a pole). Under a height grid neither holds:
+  // there Auto chooses between its tessellation's paths as for any mesh.
   const bool deforming = settings.effects.has(Effect::Deformation);
   const bool flooding = settings.effects.has(Effect::Flooding);
   const bool hollowAllowed = settings.shellDensity > 0.0 || settings.densityMap != nullptr;
@@ -193,7 +194,8 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
   std::optional<double> sphereRadius;
   if (!settings.mesh && settings.meshPath.empty() && body->getCollisionShape()->getShapeType() == SPHERE_SHAPE_PROXYTYPE &&
       settings.method != HydrostaticsMethod::Texture && !wantsMassModel &&
-      (settings.method == HydrostaticsMethod::Polyhedral || liquid_.surface->flatHeight())) {
+      (settings.method == HydrostaticsMethod::Polyhedral || liquid_.surface->flatHeight() ||
+       liquid_.surface->smoothness(0.0))) {
     sphereRadius = double(static_cast<const btSphereShape*>(body->getCollisionShape())->getRadius());
   }
   if (settings.mesh) {

@@ -73,16 +73,15 @@ TEST_CASE("a sphere shape asked for the texture path keeps it", "[floating][sphe
   world.controller().removeBody(&body);
 }
 
-TEST_CASE("under waves a sphere shape on Auto is resolved as its tessellation, not held to the flat closed form",
+TEST_CASE("under waves a sphere shape takes its rule on the true sphere; under a height grid Auto takes its tessellation",
           "[floating][sphere][waves]") {
-  // The closed form holds in flat water only; under waves Auto prices the tessellation's two paths
-  // instead: at 64^2 the texture path is the cheaper by core's cost model (its hierarchy under
-  // waves 10 + 0.3 f R = 29.2 us, f = 1 for a sphere, against the exact path's counted work under
-  // this wave, 35.0 us for the 17,160 triangles, modeledExactMicroseconds) and the advisor finds
-  // it within 1e-2.
-  // Asked for the exact path, the sphere keeps it.
+  // Under waves (a surface with smoothness bounds) a true sphere, on Auto as on the exact path,
+  // keeps its closed-form mass and takes core's rule on the true sphere (SphereHydrostaticsWaves.cpp,
+  // its own suite: test_primitive_hydrostatics), not a tessellation 1e-3 lighter: floating at rest
+  // under a slow swell its mean buoyancy carries its weight.
   auto waves = std::make_shared<GerstnerWaves>(
       std::vector<GerstnerWave>{GerstnerWave{0.1, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5}});
+  const double sphereMass = 300.0 * 4.0 / 3.0 * kPi * 0.125;
   for (HydrostaticsMethod method : {HydrostaticsMethod::Auto, HydrostaticsMethod::Polyhedral}) {
     INFO("method " << int(method));
     TestWorld world(waves);
@@ -96,14 +95,24 @@ TEST_CASE("under waves a sphere shape on Auto is resolved as its tessellation, n
     settings.effects = {Effect::Buoyancy};
     REQUIRE(world.controller().addBody(&body, settings).ok());
     const FloatingBodyReport* report = world.controller().report(&body);
-    const double sphereMass = 300.0 * 4.0 / 3.0 * kPi * 0.125;
-    if (method == HydrostaticsMethod::Auto) {
-      CHECK(report->method == HydrostaticsMethod::Texture);
-      CHECK(report->massProperties.mass < sphereMass);  // the tessellation's: its vertices lie on the sphere
-    } else {
-      CHECK(report->method == HydrostaticsMethod::Polyhedral);
-      CHECK(report->massProperties.mass == Approx(sphereMass).epsilon(1e-12));  // the closed form
-    }
+    CHECK(report->method == HydrostaticsMethod::Polyhedral);
+    CHECK(report->massProperties.mass == Approx(sphereMass).epsilon(1e-12));  // the closed form
     world.controller().removeBody(&body);
   }
+  // A height grid offers no smoothness bounds: neither the closed form nor the rule holds, and Auto
+  // prices the tessellation's paths as for any mesh (its mass the tessellation's: its vertices lie
+  // on the sphere).
+  auto grid = std::make_shared<HeightGrid>(16, 16, 0.5, -4.0, -4.0, 0.0);
+  TestWorld world(grid);
+  btSphereShape shape(0.5f);
+  btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
+  FloatingBodySettings settings;
+  settings.method = HydrostaticsMethod::Auto;
+  settings.autoMethodError = 1e-2;
+  settings.resolution = 64;
+  settings.density = 300.0;
+  settings.effects = {Effect::Buoyancy};
+  REQUIRE(world.controller().addBody(&body, settings).ok());
+  CHECK(world.controller().report(&body)->massProperties.mass < sphereMass);
+  world.controller().removeBody(&body);
 }

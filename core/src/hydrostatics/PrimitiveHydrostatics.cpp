@@ -16,6 +16,9 @@
 #include <numbers>
 #include <string>
 
+#include "hydrostatics/SphereHydrostaticsWaves.hpp"
+#include "hydrostatics/SurfaceJetGrid.hpp"
+
 namespace hydrotex {
 
 SphericalCap sphericalCap(double radius, double planeAboveCenter) {
@@ -40,9 +43,15 @@ Expected<HydrostaticsResult> sphereHydrostatics(double radius, const Eigen::Vect
     return Error{"sphere hydrostatics: radius " + std::to_string(radius) + " m is not positive and finite"};
   if (!center.allFinite()) return Error{"sphere hydrostatics: the sphere's centre is not finite"};
   const std::optional<double> flat = surface.flatHeight();
-  if (!flat)
-    return Error{"sphere hydrostatics: the closed form needs a flat surface (this one is not: use the exact or "
-                 "the texture path)"};
+  if (!flat) {
+    // The jets' grid per thread, reused (GCC zero-fills an empty local optional of its 60 KiB).
+    static thread_local std::optional<detail::SurfaceJetGrid> grid;
+    std::optional<Expected<HydrostaticsResult>> waves = detail::waveSphereHydrostatics(radius, center, surface, query, &grid);
+    grid.reset();  // it refers to the surface
+    if (waves) return std::move(*waves);
+    return Error{"sphere hydrostatics: neither the closed form (the surface is not flat) nor the rule under waves "
+                 "applies here (no smoothness bounds, or the water line near a pole): use the exact or the texture path"};
+  }
 
   HydrostaticsResult result;
   result.fluidDensity = surface.density();

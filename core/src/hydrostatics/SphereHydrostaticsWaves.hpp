@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: Zlib
+#pragma once
+/// @file SphereHydrostaticsWaves.hpp
+/// Private to core: a true sphere under waves (SphereHydrostaticsWaves.cpp), for sphereHydrostatics
+/// and for the controller's bodies that are spheres (RigidBodiesStep.cpp), which keep its surface
+/// jets for their drag.
+
+#include <Eigen/Core>
+#include <optional>
+
+#include "hydrotex/Expected.hpp"
+#include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrotex/hydrostatics/LiquidSurface.hpp"
+
+namespace hydrotex::detail {
+
+class SurfaceJetGrid;  // SurfaceJetGrid.hpp
+
+/// Azimuths and polar nodes of the sphere's quadrature (SphereHydrostaticsWaves.cpp).
+struct SphereQuadrature {
+  int azimuths = 0;     ///< M, equally spaced (the trapezoidal rule, periodic)
+  int polarNodes = 0;   ///< K, Gauss-Legendre nodes on each meridian's wet arc
+};
+
+/// The hydrostatics of a solid sphere of `radius` (m) centred at `center` (m, body frame) under a
+/// surface that is not flat and offers smoothness bounds (Gerstner waves), the query validated:
+/// the exact path's sums (HydrostaticSums.hpp) integrated over the sphere's wetted surface by a
+/// product rule (SphereHydrostaticsWaves.cpp). Empty where the rule does not apply (the surface
+/// offers no bounds, the water line may pass within a few degrees of a pole or cross a meridian
+/// twice, the jet grid cannot meet its error over the sphere): the caller takes the exact path on
+/// the sphere's mesh. Error: a surface height that is not finite. `keep`, when given, receives the
+/// grid of surface jets the heights were interpolated from (the body's drag reads it after, as
+/// polyhedralHydrostaticsKeepingJets'). `rule`: the nodes to use (zeros: chosen from the sphere's
+/// size against the waves', SphereHydrostaticsWaves.cpp); `used`, when given, receives them.
+std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius, const Eigen::Vector3d& center,
+                                                                   const LiquidSurface& surface,
+                                                                   const HydrostaticsQuery& query,
+                                                                   std::optional<SurfaceJetGrid>* keep = nullptr,
+                                                                   SphereQuadrature rule = {},
+                                                                   SphereQuadrature* used = nullptr);
+
+}  // namespace hydrotex::detail
