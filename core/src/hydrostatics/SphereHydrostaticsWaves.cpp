@@ -117,6 +117,7 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
     std::optional<SurfaceJetGrid> own;
     return waveSphereHydrostatics(radius, center, surface, query, &own, rule, used);
   }
+  if (Status valid = validateHydrostaticsQuery(surface, query); !valid) return Expected<HydrostaticsResult>(valid.error());
   const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
   if (!surface.hasFreeSurface() || !smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) ||
       !std::isfinite(smooth->third + smooth->fourth) || !(radius > 0.0) || !std::isfinite(radius))
@@ -127,7 +128,7 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
   // wave number fourth / third, 1/m; test_primitive_hydrostatics measures the error these give:
   // under 1.2e-6 of the answer up to a 1 m sphere in bench_peers' sea).
   const double waveNumber = smooth->third > 0.0 ? smooth->fourth / smooth->third : 0.0;
-  const double size = r * waveNumber;
+  const double size = std::min(r * waveNumber, 1e4);  // (beyond, the grid's 40 samples a side decline it)
   if (rule.azimuths <= 0) rule.azimuths = std::clamp(16 + 8 * int(size / 2.0), 16, kMaxAzimuths);
   if (rule.polarNodes <= 0) rule.polarNodes = std::clamp(8 + int(size / 2.0), 8, kMaxPolarNodes);
   rule.azimuths = std::clamp(rule.azimuths, 3, kMaxAzimuths);

@@ -23,12 +23,13 @@ struct SphereQuadrature {
 };
 
 /// The hydrostatics of a solid sphere of `radius` (m) centred at `center` (m, body frame) under a
-/// surface that is not flat and offers smoothness bounds (Gerstner waves), the query validated:
+/// surface that is not flat and offers smoothness bounds (Gerstner waves):
 /// the exact path's sums (HydrostaticSums.hpp) integrated over the sphere's wetted surface by a
 /// product rule (SphereHydrostaticsWaves.cpp). Empty where the rule does not apply (the surface
 /// offers no bounds, the water line may pass within a few degrees of a pole or cross a meridian
 /// twice, the jet grid cannot meet its error over the sphere): the caller takes the exact path on
-/// the sphere's mesh. Error: a surface height that is not finite. `keep`, when given, receives the
+/// the sphere's mesh. Errors: an invalid query (validateHydrostaticsQuery), a surface height that is
+/// not finite. `keep`, when given, receives the
 /// grid of surface jets the heights were interpolated from (the body's drag reads it after, as
 /// polyhedralHydrostaticsKeepingJets'). `rule`: the nodes to use (zeros: chosen from the sphere's
 /// size against the waves', SphereHydrostaticsWaves.cpp); `used`, when given, receives them.
