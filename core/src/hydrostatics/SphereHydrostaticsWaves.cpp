@@ -230,8 +230,7 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
         const Eigen::Vector3d du = cosine * out - sine * axis;
         const Eigen::Vector3d p = c + r * u;
         SurfaceJet jet;
-        if (!grid.interpolate(p.x() - lowX, p.z() - lowZ, jet) || !std::isfinite(jet.height))
-          return notFinite(jet.height);
+        if (!grid.interpolate(p.x() - lowX, p.z() - lowZ, jet) || !std::isfinite(jet.height)) return notFinite(NAN);
         const double depth = jet.height - p.y();
         const double rate = r * (jet.slopeX * du.x() + jet.slopeZ * du.z() - du.y());
         (depth > 0.0 ? high : low) = theta;
