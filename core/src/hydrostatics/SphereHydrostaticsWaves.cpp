@@ -7,9 +7,9 @@
 /// theorem), so a quadrature rule on the wetted part of the sphere gives all of them, for the
 /// sphere itself rather than a polyhedron inside it:
 /// - polar angle theta from an axis along the surface's upward normal above the centre, azimuth
-///   phi about it. Over the sphere the surface departs from its tangent plane there by at most
-///   E (its curvature at the centre and its third-derivative bound, SurfaceSmoothness, plus the
-///   jets' interpolation error), and its slope by at most G, so that the depth along a meridian,
+///   phi about it. Over the sphere the interpolated surface (the one integrated) departs from its
+///   tangent plane there by at most E = K r^2 / 2 and its slope by at most G = K r (K: a bound
+///   of its curvature over the footprint's cells), so that the depth along a meridian,
 ///   (h0 - y_c) - R |N| cos(theta) + E (N the plane's normal (-h_x, 1, -h_z)), rises strictly
 ///   wherever sin(theta) > G / |N|: when the cap of that half-angle around the upper pole lies
 ///   wholly over the surface and the one around the lower pole wholly under it, each meridian
@@ -161,17 +161,15 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
   // Waves too short for the grid's samples over the sphere (the bound's own rounding let through).
   if (!(interpolation.height <= heightError * (1.0 + 1e-9))) return std::nullopt;
 
-  // The tangent plane above the centre and how far the interpolated surface may depart from it
-  // over the sphere's footprint (a disc of radius r): in height E (its curvature there, the third
-  // derivative's bound and the interpolation's errors, each side of the comparison) and in slope G.
+  // The tangent plane above the centre and how far the interpolated surface (the one integrated)
+  // may depart from it over the sphere's footprint (a disc of radius r about the centre): with K
+  // its curvature's bound over the footprint's cells, by the mean value theorem along the radius,
+  // at most K r^2 / 2 in height and K r in slope.
   SurfaceJet centre;
   if (!grid.interpolate(r, r, centre)) return notFinite(NAN);
-  const double curvature = std::sqrt(centre.curvatureXX * centre.curvatureXX +
-                                     2.0 * centre.curvatureXZ * centre.curvatureXZ +
-                                     centre.curvatureZZ * centre.curvatureZZ) + interpolation.curvature;
-  const double departure = 0.5 * curvature * r * r + smooth->third * r * r * r / 6.0 + 2.0 * interpolation.height +
-                           interpolation.slope * r;
-  const double slopeDeparture = curvature * r + 0.5 * smooth->third * r * r + 2.0 * interpolation.slope;
+  const double curvature = grid.curvatureBound(0.0, 2.0 * r, 0.0, 2.0 * r);
+  if (!std::isfinite(curvature)) return notFinite(NAN);
+  const double departure = 0.5 * curvature * r * r, slopeDeparture = curvature * r;
   const Eigen::Vector3d normal = Eigen::Vector3d(-centre.slopeX, 1.0, -centre.slopeZ);
   const double normalLength = normal.norm();
   const Eigen::Vector3d axis = normal / normalLength;  // the polar axis: theta = 0 at c + r axis

@@ -99,6 +99,34 @@ class SurfaceJetGrid {
     return true;
   }
 
+  /// A bound (1/m) of the interpolant's curvature, the Frobenius norm of its Hessian, over the
+  /// cells that meet the local box [lowX, highX] x [lowZ, highZ] (m): each cell's second
+  /// derivatives bounded by the sums of its polynomial's coefficients' magnitudes times their
+  /// powers' factors (t, w in [0, 1]). Builds those cells' polynomials (sampling their corners);
+  /// infinity when a corner has no jet or the box is not finite.
+  double curvatureBound(double lowX, double highX, double lowZ, double highZ) {
+    int i0, j0, i1, j1;
+    double t, w;
+    if (!cell(lowX, lowZ, i0, j0, t, w) || !cell(highX, highZ, i1, j1, t, w)) return INFINITY;
+    double bound = 0.0;
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const CellPolynomial* cellPatch = patch(i, j);
+        if (!cellPatch) return INFINITY;
+        const double(&c)[4][4] = cellPatch->c;
+        double tt = 0.0, tw = 0.0, ww = 0.0;  // |p_tt|, |p_tw|, |p_ww| at most
+        for (int k = 0; k < 4; ++k)
+          for (int l = 0; l < 4; ++l) {
+            const double a = std::abs(c[k][l]);
+            tt += k * (k - 1) * a;
+            tw += k * l * a;
+            ww += l * (l - 1) * a;
+          }
+        bound = std::max(bound, std::sqrt(tt * tt + 2.0 * tw * tw + ww * ww));
+      }
+    return bound / (spacing_ * spacing_);
+  }
+
   /// Marks the samples that interpolating at the local point (x, z) (m) needs, for sampleMarked().
   void mark(double x, double z) {
     int i, j;
