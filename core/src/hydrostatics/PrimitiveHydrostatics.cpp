@@ -50,7 +50,8 @@ Expected<HydrostaticsResult> sphereHydrostatics(double radius, const Eigen::Vect
     grid.reset();  // it refers to the surface
     if (waves) return std::move(*waves);
     return Error{"sphere hydrostatics: neither the closed form (the surface is not flat) nor the rule under waves "
-                 "applies here (no smoothness bounds, or the water line near a pole): use the exact or the texture path"};
+                 "applies here (no smoothness bounds, the water line near a pole, or the sphere large against the waves): use "
+                 "the exact or the texture path"};
   }
 
   HydrostaticsResult result;

@@ -167,8 +167,9 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
   // at most K r^2 / 2 in height and K r in slope.
   SurfaceJet centre;
   if (!grid.interpolate(r, r, centre)) return notFinite(NAN);
+  // No bound (a jet missing, or a sphere so small that its cells' scale underflows): declined.
   const double curvature = grid.curvatureBound(0.0, 2.0 * r, 0.0, 2.0 * r);
-  if (!std::isfinite(curvature)) return notFinite(NAN);
+  if (!std::isfinite(curvature)) return std::nullopt;
   const double departure = 0.5 * curvature * r * r, slopeDeparture = curvature * r;
   const Eigen::Vector3d normal = Eigen::Vector3d(-centre.slopeX, 1.0, -centre.slopeZ);
   const double normalLength = normal.norm();
