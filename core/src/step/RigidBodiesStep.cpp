@@ -56,7 +56,7 @@ bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
                        std::optional<detail::SurfaceJetGrid>* jets, HydrostaticsResult& out) {
   const HydrostaticsQuery query = queryOf(task);
   // A sphere in flat water in closed form; under waves by its rule on the true sphere
-  // (SphereHydrostaticsWaves.cpp: 16 x 8 nodes and 49 jets for bench_peers' sphere, where its mesh
+  // (SphereHydrostaticsWaves.cpp: 16 x 8 nodes and 36 jets for bench_peers' sphere, where its mesh
   // of 17,160 triangles took about three times as long), keeping its jets for the drag as the
   // prepared mesh does, unless the rule does not apply there. The prepared mesh gives the mesh's
   // own answer (PreparedPolyhedron.hpp), faster, and under waves models the surface over its
