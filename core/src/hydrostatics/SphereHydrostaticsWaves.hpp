@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <vector>
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
@@ -22,6 +23,16 @@ struct SphereQuadrature {
   int polarNodes = 0;   ///< K, Gauss-Legendre nodes on each meridian's wet arc
 };
 
+/// A node of the rule on the sphere's wetted surface (world frame): where it lies, its outward
+/// area vector (its weight times the unit normal, m^2), its weight (m^2) and the interpolated
+/// surface's height above it (m). The body's drag sums its law on them (RigidBodiesStep.cpp).
+struct WettedNode {
+  Eigen::Vector3d position;    ///< m, world
+  Eigen::Vector3d areaVector;  ///< m^2, world, outward
+  double area = 0.0;           ///< m^2
+  double surfaceHeight = 0.0;  ///< m, world
+};
+
 /// The hydrostatics of a solid sphere of `radius` (m) centred at `center` (m, body frame) under a
 /// surface that is not flat and offers smoothness bounds (Gerstner waves):
 /// the exact path's sums (HydrostaticSums.hpp) integrated over the sphere's wetted surface by a
@@ -32,12 +43,14 @@ struct SphereQuadrature {
 /// not finite. `keep`, when given, receives the
 /// grid of surface jets the heights were interpolated from (the body's drag reads it after, as
 /// polyhedralHydrostaticsKeepingJets'). `rule`: the nodes to use (zeros: chosen from the sphere's
-/// size against the waves', SphereHydrostaticsWaves.cpp); `used`, when given, receives them.
+/// size against the waves', SphereHydrostaticsWaves.cpp); `used`, when given, receives them;
+/// `nodes`, when given, the rule's nodes on the wetted surface (emptied where no answer comes).
 std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius, const Eigen::Vector3d& center,
                                                                    const LiquidSurface& surface,
                                                                    const HydrostaticsQuery& query,
                                                                    std::optional<SurfaceJetGrid>* keep = nullptr,
                                                                    SphereQuadrature rule = {},
-                                                                   SphereQuadrature* used = nullptr);
+                                                                   SphereQuadrature* used = nullptr,
+                                                                   std::vector<WettedNode>* nodes = nullptr);
 
 }  // namespace hydrotex::detail

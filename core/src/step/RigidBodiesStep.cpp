@@ -7,6 +7,7 @@
 #include <chrono>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 #include "hydrotex/hydrostatics/PrimitiveHydrostatics.hpp"
@@ -50,10 +51,19 @@ std::optional<detail::SurfaceJetGrid>& threadJetGrid() {
   return grid;
 }
 
+// The nodes of a sphere's rule on its wetted surface, for its drag: one list per thread, reused.
+std::vector<detail::WettedNode>& threadWettedNodes() {
+  static thread_local std::vector<detail::WettedNode> nodes;
+  return nodes;
+}
+
 // Body `task`'s hydrostatics on the exact path (or a sphere's closed form) into `out`; false when
 // the query fails. With `jets`, a prepared body's query keeps the surface jets it sampled there.
+// With `nodes`, a sphere whose rule answers under waves gives its nodes there and sets `*onNodes`.
 bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
-                       std::optional<detail::SurfaceJetGrid>* jets, HydrostaticsResult& out) {
+                       std::optional<detail::SurfaceJetGrid>* jets, HydrostaticsResult& out,
+                       std::vector<detail::WettedNode>* nodes = nullptr, bool* onNodes = nullptr) {
+  if (onNodes) *onNodes = false;
   const HydrostaticsQuery query = queryOf(task);
   // A sphere in flat water in closed form; under waves by its rule on the true sphere
   // (SphereHydrostaticsWaves.cpp: 16 x 8 nodes and 36 jets for bench_peers' sphere, where its mesh
@@ -65,11 +75,13 @@ bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
   if (task.sphereRadius && !closedForm) {
     std::optional<detail::SurfaceJetGrid>& grid = jets ? *jets : threadJetGrid();
     std::optional<Expected<HydrostaticsResult>> waves =
-        detail::waveSphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), surface, query, &grid);
+        detail::waveSphereHydrostatics(*task.sphereRadius, Eigen::Vector3d::Zero(), surface, query, &grid, {}, nullptr,
+                                       nodes);
     if (!jets) grid.reset();  // it refers to the surface
     if (waves) {
       if (!*waves) return false;
       out = **waves;
+      if (onNodes) *onNodes = nodes != nullptr;
       return true;
     }
   }
@@ -223,10 +235,17 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
         // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is
         // summed here, after it, reading its heights from them (the drag's own grid took 23-36
         // jets on bench_peers' box and hull under its three waves, ~150 ns each).
+        // A sphere whose rule answered sums its drag on the rule's nodes instead: the pieces its
+        // buoyancy used (issue 19 item 3), wet to the water line, where its 17,160-triangle mesh's
+        // patches asked the jets again.
         std::optional<detail::SurfaceJetGrid>& jets = threadJetGrid();
-        haveHydrostatics = exactHydrostatics(batch.surface, task, &jets, result.hydrostatics);
-        drag_[i] = detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt,
-                                         jets ? &*jets : nullptr);
+        std::vector<detail::WettedNode>& nodes = threadWettedNodes();
+        bool onNodes = false;
+        haveHydrostatics = exactHydrostatics(batch.surface, task, &jets, result.hydrostatics,
+                                             task.sphereRadius ? &nodes : nullptr, &onNodes);
+        drag_[i] = onNodes ? detail::rigidBodyDragOnNodes(*task.input.drag, task.motion, task.input.liquid, batch.dt, nodes)
+                           : detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt,
+                                                   jets ? &*jets : nullptr);
         jets.reset();  // it refers to the surface
       } else {
         haveHydrostatics = exactHydrostatics(batch.surface, task, nullptr, result.hydrostatics);

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "hydrostatics/SphereHydrostaticsWaves.hpp"
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
 #include "step/DragLanes.hpp"
@@ -205,6 +206,64 @@ class PosedDragColumns {
 PosedDragColumns& posedDragScratch() {
   thread_local PosedDragColumns columns;
   return columns;
+}
+
+/// The law on one posed element (r from the centre of mass, its velocity relative to the liquid,
+/// area vector, area, wet fraction), one at a time, added to `sums`: where the lanes are not
+/// built, or the liquid's density varies from place to place.
+void addElementDrag(detail::DragLaneSums& sums, const Eigen::Vector3d& r, const Eigen::Vector3d& relative,
+                    const Eigen::Vector3d& areaVector, double area, double wetFraction, double density, double friction,
+                    const DragCoefficients& coefficients, bool linearized) {
+  detail::DragRates<double> rates;
+  Eigen::Vector3d normal;
+  const Eigen::Vector3d force = wetFraction * detail::texelDragLaw(areaVector, area, relative, density, friction,
+                                                                    coefficients, linearized ? &rates : nullptr, &normal);
+  if (linearized) {
+    const double n[3] = {normal.x(), normal.y(), normal.z()}, rp[3] = {r.x(), r.y(), r.z()};
+    detail::addDragDamping(sums.damping, n, rp, rates, wetFraction);
+  }
+  const Eigen::Vector3d torque = r.cross(force);
+  for (int c = 0; c < 3; ++c) {
+    sums.force[c] += force[c];
+    sums.torque[c] += torque[c];
+  }
+  sums.wetted += wetFraction * area;
+}
+
+/// The drag's totals `sums` into `out` (whose liquidVelocityAtCenter is set): force, torque,
+/// wetted area, the law's damping (Linearized) or the secant one, and the rotational damping.
+void finishDrag(const DragBody& body, const RigidBodyMotion& motion, double dt, const detail::DragLaneSums& sums,
+                DragLoads& out) {
+  const Eigen::Vector3d& v = motion.linearVelocity;
+  const Eigen::Vector3d& w = motion.angularVelocity;
+  const bool linearized = body.damping == DragDamping::Linearized;
+  out.force = Eigen::Vector3d(sums.force[0], sums.force[1], sums.force[2]);
+  out.torque = Eigen::Vector3d(sums.torque[0], sums.torque[1], sums.torque[2]);
+  out.patchesVisited = sums.visited;
+  out.wettedArea = sums.wetted;
+  if (linearized) out.damping = detail::dampingMatrix(sums.damping);
+  if (body.totalPatchArea > 0.0 && body.rotationalDamping > 0.0) {
+    const double wetted = out.wettedArea / body.totalPatchArea;
+    out.torque -= body.rotationalDamping * wetted * (motion.inertiaWorld * w);
+    if (linearized) out.damping.bottomRightCorner<3, 3>() += body.rotationalDamping * wetted * motion.inertiaWorld;
+  }
+  // The implicit update takes the drag linearized about this step's velocities (backward Euler,
+  // F_d(u') = F_d(u) - C (u' - u)). Linearized: C is the full derivative, so every direction of
+  // the motion the drag acts on is damped implicitly, including forces across the body's motion
+  // that a lopsided patch layout makes (a spinning plate, a rolling needle). Secant: C = lambda M
+  // / dt along the relative motion, lambda = -(u.J)/(u.M.u), J = dt (F_d, T_d). Both are positive
+  // semidefinite, so the drag can slow a body but never reverse it, at any time step, and at a
+  // steady state (terminal velocity) it changes nothing.
+  if (!linearized) {
+    const Eigen::Vector3d relativeLinear = v - out.liquidVelocityAtCenter;
+    const double removed = -dt * (relativeLinear.dot(out.force) + w.dot(out.torque));
+    const double kinetic = motion.mass * relativeLinear.squaredNorm() + w.dot(motion.inertiaWorld * w);
+    if (removed > 0.0 && kinetic > 0.0) {
+      const double rate = removed / kinetic / dt;
+      out.damping.topLeftCorner<3, 3>().diagonal().setConstant(rate * motion.mass);
+      out.damping.bottomRightCorner<3, 3>() = rate * motion.inertiaWorld;
+    }
+  }
 }
 
 }  // namespace
@@ -463,22 +522,8 @@ DragLoads detail::rigidBodyDrag(const DragBody& body, const RigidBodyMotion& mot
           posed->add(r, relative, areaVector, double(set.area[patch]), wetFractions[k]);
           continue;
         }
-        detail::DragRates<double> rates;
-        Eigen::Vector3d normal;
-        const Eigen::Vector3d patchForce =
-            wetFractions[k] * detail::texelDragLaw(areaVector, double(set.area[patch]), relative,
-                                                   freeSurface ? density : surface.densityAt(points[k]), friction,
-                                                   body.coefficients, linearized ? &rates : nullptr, &normal);
-        if (linearized) {
-          const double n[3] = {normal.x(), normal.y(), normal.z()}, rp[3] = {r.x(), r.y(), r.z()};
-          detail::addDragDamping(sums.damping, n, rp, rates, wetFractions[k]);
-        }
-        const Eigen::Vector3d patchTorque = r.cross(patchForce);
-        for (int c = 0; c < 3; ++c) {
-          sums.force[c] += patchForce[c];
-          sums.torque[c] += patchTorque[c];
-        }
-        sums.wetted += wetFractions[k] * double(set.area[patch]);
+        addElementDrag(sums, r, relative, areaVector, double(set.area[patch]), wetFractions[k],
+                       freeSurface ? density : surface.densityAt(points[k]), friction, body.coefficients, linearized);
       }
     }
   }
@@ -489,33 +534,60 @@ DragLoads detail::rigidBodyDrag(const DragBody& body, const RigidBodyMotion& mot
     if (!detail::sumPosedDragAvx2(input, sums)) detail::sumPosedDragLanes<detail::DoubleLanes>(input, sums);
   }
 #endif
-  out.force = Eigen::Vector3d(sums.force[0], sums.force[1], sums.force[2]);
-  out.torque = Eigen::Vector3d(sums.torque[0], sums.torque[1], sums.torque[2]);
-  out.patchesVisited = sums.visited;
-  out.wettedArea = sums.wetted;
-  if (linearized) out.damping = detail::dampingMatrix(sums.damping);
-  if (body.totalPatchArea > 0.0 && body.rotationalDamping > 0.0) {
-    const double wetted = out.wettedArea / body.totalPatchArea;
-    out.torque -= body.rotationalDamping * wetted * (motion.inertiaWorld * w);
-    if (linearized) out.damping.bottomRightCorner<3, 3>() += body.rotationalDamping * wetted * motion.inertiaWorld;
-  }
-  // The implicit update takes the drag linearized about this step's velocities (backward Euler,
-  // F_d(u') = F_d(u) - C (u' - u)). Linearized: C is the full derivative, so every direction of
-  // the motion the drag acts on is damped implicitly, including forces across the body's motion
-  // that a lopsided patch layout makes (a spinning plate, a rolling needle). Secant: C = lambda M
-  // / dt along the relative motion, lambda = -(u.J)/(u.M.u), J = dt (F_d, T_d). Both are positive
-  // semidefinite, so the drag can slow a body but never reverse it, at any time step, and at a
-  // steady state (terminal velocity) it changes nothing.
-  if (!linearized) {
-    const Eigen::Vector3d relativeLinear = v - out.liquidVelocityAtCenter;
-    const double removed = -dt * (relativeLinear.dot(out.force) + w.dot(out.torque));
-    const double kinetic = motion.mass * relativeLinear.squaredNorm() + w.dot(motion.inertiaWorld * w);
-    if (removed > 0.0 && kinetic > 0.0) {
-      const double rate = removed / kinetic / dt;
-      out.damping.topLeftCorner<3, 3>().diagonal().setConstant(rate * motion.mass);
-      out.damping.bottomRightCorner<3, 3>() = rate * motion.inertiaWorld;
+  finishDrag(body, motion, dt, sums, out);
+  return out;
+}
+
+DragLoads detail::rigidBodyDragOnNodes(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid,
+                                       double dt, std::span<const WettedNode> nodes) {
+  DragLoads out;
+  const LiquidSurface& surface = *liquid.surface;
+  const Eigen::Vector3d& center = motion.center;
+  const Eigen::Vector3d& v = motion.linearVelocity;
+  const Eigen::Vector3d& w = motion.angularVelocity;
+  out.liquidVelocityAtCenter = liquid.current + surface.velocity(center, liquid.time);
+  const double density = surface.density();
+  const double friction = bodySkinFriction(density, (v - out.liquidVelocityAtCenter).norm(), body.referenceLength,
+                                           liquid.viscosity, body.coefficients);
+  const bool linearized = body.damping == DragDamping::Linearized;
+  detail::DragLaneSums sums;
+  sums.visited = nodes.size();
+#ifdef HYDROTEX_DOUBLE_LANES
+  PosedDragColumns& posed = posedDragScratch();
+  posed.reset(nodes.size());
+#endif
+  // The liquid's velocity below the surface at the nodes in chunks (velocitiesBelow turns the
+  // waves' phases from the chunk's first node), then the law on each node, wholly wet.
+  constexpr std::size_t kChunk = 16;
+  Eigen::Vector3d points[kChunk], liquidVelocities[kChunk];
+  double levels[kChunk];
+  for (std::size_t first = 0; first < nodes.size(); first += kChunk) {
+    const std::size_t count = std::min(kChunk, nodes.size() - first);
+    for (std::size_t k = 0; k < count; ++k) {
+      points[k] = nodes[first + k].position;
+      levels[k] = nodes[first + k].surfaceHeight;
+    }
+    surface.velocitiesBelow(std::span(points, count), std::span(levels, count), liquid.time,
+                            std::span(liquidVelocities, count));
+    for (std::size_t k = 0; k < count; ++k) {
+      const WettedNode& node = nodes[first + k];
+      const Eigen::Vector3d r = node.position - center;
+      const Eigen::Vector3d relative = v + w.cross(r) - liquidVelocities[k] - liquid.current;
+#ifdef HYDROTEX_DOUBLE_LANES
+      posed.add(r, relative, node.areaVector, node.area, 1.0);
+#else
+      addElementDrag(sums, r, relative, node.areaVector, node.area, 1.0, density, friction, body.coefficients,
+                     linearized);
+#endif
     }
   }
+#ifdef HYDROTEX_DOUBLE_LANES
+  if (posed.count() > 0) {
+    const detail::PosedDragInput input = posed.input(detail::DragLaneLaw{density, friction, &body.coefficients, linearized});
+    if (!detail::sumPosedDragAvx2(input, sums)) detail::sumPosedDragLanes<detail::DoubleLanes>(input, sums);
+  }
+#endif
+  finishDrag(body, motion, dt, sums, out);
   return out;
 }
 
