@@ -139,6 +139,14 @@ class SurfaceJetGrid {
       }
   }
 
+  /// Samples every node not yet sampled (sampleMarked's batches): for a caller that will read the
+  /// whole grid (a sphere's rule bounds the curvature over every cell).
+  void sampleAll() {
+    for (std::size_t k = 0; k < std::size_t(sideX_) * std::size_t(sideZ_); ++k)
+      if (state_[k] == kUnsampled) state_[k] = kMarked;
+    sampleMarked();
+  }
+
   /// Samples every marked node, row by row in alternating directions, kBatch nodes a call of
   /// LiquidSurface::heightJets: a caller that knows its points beforehand (drag's patches) asks
   /// the surface only for the nodes they need, each started from the one before it (waves).
