@@ -124,33 +124,36 @@ TEST_CASE("under waves a sphere shape takes its rule on the true sphere; under a
   world.controller().removeBody(&body);
 }
 
-TEST_CASE("under waves a sphere shape's drag runs on its rule's nodes; without drag on none", "[floating][sphere][waves][drag]") {
-  // Half in the water under a wave, the rule answers every step, and the drag sums its law on the
-  // rule's 8 x 4 drag nodes (16 x 8 for the buoyancy, for a 0.5 m sphere under this wave:
-  // test_rigid_body_step checks the drag they give), not on the tessellation's 153 patches.
-  // A body that asks no drag pays for none: no drag pass, no node visited.
+TEST_CASE("a sphere shape's drag runs on its rule's nodes, in flat water and under waves; without drag on none",
+          "[floating][sphere][waves][drag]") {
+  // Half in the water, the drag sums its law on the sphere's 8 x 4 drag nodes (under this wave its
+  // rule's every other meridian, 16 x 8 for the buoyancy, answering every step; in flat water the
+  // cap's), not on the tessellation's 153 patches: test_rigid_body_step checks the drag they
+  // give. A body that asks no drag pays for none: no drag pass, no node visited.
   auto waves = std::make_shared<GerstnerWaves>(
       std::vector<GerstnerWave>{GerstnerWave{0.1, 12.0, Eigen::Vector2d(1.0, 0.0), 0.0, 0.5}});
-  for (bool drag : {true, false}) {
-    INFO("drag " << drag);
-    TestWorld world(waves);
-    btSphereShape shape(0.5f);
-    btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
-    body.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.3f, 0.05f, 0.1f)));
-    FloatingBodySettings settings;
-    settings.method = HydrostaticsMethod::Polyhedral;
-    settings.density = 500.0;
-    settings.effects = drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy};
-    REQUIRE(world.controller().addBody(&body, settings).ok());
-    world.world().addRigidBody(&body);
-    const int steps = 30;
-    for (int i = 0; i < steps; ++i) world.step(1.0 / 60.0);
-    const ControllerStatistics& statistics = world.controller().statistics();
-    CHECK(statistics.hydrostaticsQueries == std::uint64_t(steps));
-    CHECK(statistics.failedQueries == 0);
-    CHECK(statistics.dragPasses == (drag ? std::uint64_t(steps) : 0u));
-    CHECK(statistics.dragPatchesVisited == (drag ? std::uint64_t(steps) * 32u : 0u));
-    world.world().removeRigidBody(&body);
-    world.controller().removeBody(&body);
-  }
+  auto flat = std::make_shared<FlatSurface>(0.0);
+  for (const std::shared_ptr<LiquidSurface>& surface : {std::shared_ptr<LiquidSurface>(waves), std::shared_ptr<LiquidSurface>(flat)})
+    for (bool drag : {true, false}) {
+      INFO("drag " << drag << ", waves " << (surface == waves));
+      TestWorld world(surface);
+      btSphereShape shape(0.5f);
+      btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
+      body.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.3f, 0.05f, 0.1f)));
+      FloatingBodySettings settings;
+      settings.method = HydrostaticsMethod::Polyhedral;
+      settings.density = 500.0;
+      settings.effects = drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy};
+      REQUIRE(world.controller().addBody(&body, settings).ok());
+      world.world().addRigidBody(&body);
+      const int steps = 30;
+      for (int i = 0; i < steps; ++i) world.step(1.0 / 60.0);
+      const ControllerStatistics& statistics = world.controller().statistics();
+      CHECK(statistics.hydrostaticsQueries == std::uint64_t(steps));
+      CHECK(statistics.failedQueries == 0);
+      CHECK(statistics.dragPasses == (drag ? std::uint64_t(steps) : 0u));
+      CHECK(statistics.dragPatchesVisited == (drag ? std::uint64_t(steps) * 32u : 0u));
+      world.world().removeRigidBody(&body);
+      world.controller().removeBody(&body);
+    }
 }

@@ -298,4 +298,29 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
   return Expected<HydrostaticsResult>(std::move(result));
 }
 
+void flatSphereDragNodes(double radius, const Eigen::Vector3d& center, double level, std::vector<WettedNode>& nodes,
+                         SphereQuadrature rule) {
+  nodes.clear();
+  const double r = radius;
+  // The cap below the level: polar angles (from straight up) past theta_w, cos(theta_w) = (level - y_c) / r.
+  if (!(r > 0.0) || !(level - center.y() > -r)) return;  // dry (or no sphere)
+  const int azimuths = std::clamp(rule.azimuths, 3, kMaxAzimuths), polarNodes = std::clamp(rule.polarNodes, 1, kMaxPolarNodes);
+  const GaussRule& gauss = gaussRule(polarNodes);
+  const double pi = std::numbers::pi;
+  const double from = std::acos(std::clamp((level - center.y()) / r, -1.0, 1.0)), span = pi - from;
+  const double azimuthWeight = 2.0 * pi / azimuths;
+  nodes.reserve(std::size_t(azimuths) * std::size_t(polarNodes));
+  for (int j = 0; j < azimuths; ++j) {
+    const double phi = (j + 0.5) * azimuthWeight;
+    const double outX = std::cos(phi), outZ = std::sin(phi);
+    for (int k = 0; k < polarNodes; ++k) {
+      double sine, cosine;
+      sineCosineToPi(from + span * gauss.node[k], sine, cosine);
+      const Eigen::Vector3d u(sine * outX, cosine, sine * outZ);
+      const double area = r * r * sine * span * gauss.weight[k] * azimuthWeight;
+      nodes.push_back(WettedNode{center + r * u, area * u, area, level});
+    }
+  }
+}
+
 }  // namespace hydrotex::detail

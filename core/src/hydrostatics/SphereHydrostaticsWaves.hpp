@@ -3,7 +3,7 @@
 /// @file SphereHydrostaticsWaves.hpp
 /// Private to core: a true sphere under waves (SphereHydrostaticsWaves.cpp), for sphereHydrostatics
 /// and for the controller's bodies that are spheres (RigidBodiesStep.cpp), which keep its surface
-/// jets for their drag.
+/// jets and its nodes for their drag; and the same nodes on a sphere's cap under a flat surface.
 
 #include <Eigen/Core>
 #include <optional>
@@ -52,5 +52,13 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
                                                                    SphereQuadrature rule = {},
                                                                    SphereQuadrature* used = nullptr,
                                                                    std::vector<WettedNode>* nodes = nullptr);
+
+/// The drag's nodes (WettedNode) on the wetted cap of a sphere of `radius` (m) centred at `center`
+/// (m, world) under a flat surface at `level` (m): the sphere rule's (`rule.azimuths` meridians
+/// equally spaced, `rule.polarNodes` Gauss-Legendre nodes on each one's wet arc, about the
+/// vertical), the same as its drag takes under waves (every other meridian of the 16 x 8 rule:
+/// 8 x 4, the default). Into `nodes` (emptied first; none for a dry sphere).
+void flatSphereDragNodes(double radius, const Eigen::Vector3d& center, double level, std::vector<WettedNode>& nodes,
+                         SphereQuadrature rule = {8, 4});
 
 }  // namespace hydrotex::detail

@@ -557,7 +557,9 @@ DragLoads detail::rigidBodyDragOnNodes(const DragBody& body, const RigidBodyMoti
   posed.reset(nodes.size());
 #endif
   // The liquid's velocity below the surface at the nodes in chunks (velocitiesBelow turns the
-  // waves' phases from the chunk's first node), then the law on each node, wholly wet.
+  // waves' phases from the chunk's first node; a flat surface is still, as rigidBodyDrag takes
+  // it), then the law on each node, wholly wet.
+  const bool still = surface.flatHeight().has_value();
   constexpr std::size_t kChunk = 16;
   Eigen::Vector3d points[kChunk], liquidVelocities[kChunk];
   double levels[kChunk];
@@ -567,8 +569,12 @@ DragLoads detail::rigidBodyDragOnNodes(const DragBody& body, const RigidBodyMoti
       points[k] = nodes[first + k].position;
       levels[k] = nodes[first + k].surfaceHeight;
     }
-    surface.velocitiesBelow(std::span(points, count), std::span(levels, count), liquid.time,
-                            std::span(liquidVelocities, count));
+    if (still) {
+      for (std::size_t k = 0; k < count; ++k) liquidVelocities[k].setZero();
+    } else {
+      surface.velocitiesBelow(std::span(points, count), std::span(levels, count), liquid.time,
+                              std::span(liquidVelocities, count));
+    }
     for (std::size_t k = 0; k < count; ++k) {
       const WettedNode& node = nodes[first + k];
       const Eigen::Vector3d r = node.position - center;
