@@ -310,16 +310,22 @@ void flatSphereDragNodes(double radius, const Eigen::Vector3d& center, double le
   const double from = std::acos(std::clamp((level - center.y()) / r, -1.0, 1.0)), span = pi - from;
   const double azimuthWeight = 2.0 * pi / azimuths;
   nodes.reserve(std::size_t(azimuths) * std::size_t(polarNodes));
+  // The wet arc is the same on every meridian: its nodes' sines and cosines once; the meridians'
+  // directions by turning the first one by 2 pi / M each (rounding grows by an ulp a turn).
+  double polarSine[kMaxPolarNodes], polarCosine[kMaxPolarNodes];
+  for (int k = 0; k < polarNodes; ++k) sineCosineToPi(from + span * gauss.node[k], polarSine[k], polarCosine[k]);
+  const double turnCosine = std::cos(azimuthWeight), turnSine = std::sin(azimuthWeight);
+  double outX = std::cos(0.5 * azimuthWeight), outZ = std::sin(0.5 * azimuthWeight);
   for (int j = 0; j < azimuths; ++j) {
-    const double phi = (j + 0.5) * azimuthWeight;
-    const double outX = std::cos(phi), outZ = std::sin(phi);
     for (int k = 0; k < polarNodes; ++k) {
-      double sine, cosine;
-      sineCosineToPi(from + span * gauss.node[k], sine, cosine);
-      const Eigen::Vector3d u(sine * outX, cosine, sine * outZ);
+      const double sine = polarSine[k];
+      const Eigen::Vector3d u(sine * outX, polarCosine[k], sine * outZ);
       const double area = r * r * sine * span * gauss.weight[k] * azimuthWeight;
       nodes.push_back(WettedNode{center + r * u, area * u, area, level});
     }
+    const double turnedX = outX * turnCosine - outZ * turnSine;
+    outZ = outX * turnSine + outZ * turnCosine;
+    outX = turnedX;
   }
 }
 
