@@ -197,10 +197,13 @@ Pass runPass(const Scene& base, const SceneBody& prototype, const std::shared_pt
   for (int i = 0; i < kBodies; ++i) {
     SceneBody body = prototype;
     body.name = prototype.name + std::to_string(i);
-    // A sphere stays a btSphereShape (the controller then takes its closed forms, unless on the
-    // texture path); other primitives and meshes share one mesh, as crates of a kind.
-    const bool sphere = prototype.shape && prototype.shape->type == SceneShape::Type::Sphere;
-    if (!sphere) {
+    // A sphere stays a btSphereShape and a box a btBoxShape, as the mixed world's (the controller
+    // then takes their own paths: a sphere's closed forms and rule, a box's rule under waves,
+    // unless on the texture path); meshes share one mesh, as crates of a kind (the shapes share
+    // theirs too).
+    const bool primitive = prototype.shape && (prototype.shape->type == SceneShape::Type::Sphere ||
+                                                prototype.shape->type == SceneShape::Type::Box);
+    if (!primitive) {
       body.mesh = mesh;
       body.shape.reset();
     }

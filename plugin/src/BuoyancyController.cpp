@@ -258,6 +258,12 @@ Status BuoyancyController::addBody(btRigidBody* body, const FloatingBodySettings
                                          : sphereRadius ? solidSphereMassProperties(*sphereRadius, 1.0)
                                                         : polyhedralMassProperties(mesh, 1.0);
   floating->sphereRadius = sphereRadius;
+  // A btBoxShape given no mesh, on the exact path: under waves core's rule on its faces
+  // (BoxHydrostaticsWaves.cpp), its mesh (the box's 12 triangles, ShapeMesh.cpp) where that does
+  // not apply.
+  if (exactPath && !deforming && !settings.mesh && settings.meshPath.empty() &&
+      body->getCollisionShape()->getShapeType() == BOX_SHAPE_PROXYTYPE)
+    floating->boxHalfExtents = toEigen(static_cast<const btBoxShape*>(body->getCollisionShape())->getHalfExtentsWithMargin());
   if (!unitDensity) return unitDensity.error();
   if (!(unitDensity->volume > 0.0)) return Error{"mesh: encloses no volume"};
   double density = 0.0;
@@ -779,6 +785,7 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) c
   task.backendBody = floating.backendBody;
   task.exactPrepared = floating.exactPrepared.get();
   task.sphereRadius = floating.sphereRadius;
+  task.boxHalfExtents = floating.boxHalfExtents;
   task.exactMesh = floating.mesh.get();
   task.centerOfMass = massProperties.centerOfMass;
   task.boundsCenter = floating.boundsCenter;

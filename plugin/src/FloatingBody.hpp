@@ -88,6 +88,9 @@ struct FloatingBody {
   /// A true sphere of this radius (m) about the mesh frame's origin (a btSphereShape given no
   /// mesh): its mass properties and flat-water hydrostatics in closed form.
   std::optional<double> sphereRadius;
+  /// A btBoxShape given no mesh, on the exact path: its half extents (m, with Bullet's margin, as
+  /// its mesh), for core's rule on its faces under waves.
+  std::optional<Eigen::Vector3d> boxHalfExtents;
   double totalDragPatchArea = 0.0;              ///< m^2, sum of patch areas
   /// Linearized for a rigid body's mesh patches, Secant for a deforming body's dense texel patches.
   DragDamping dragDamping = DragDamping::Secant;

@@ -4,7 +4,7 @@
 // waves an exact body's drag reads its query's jets, within the drag's height error), the
 // plan's closed forms (free fall above the liquid, nothing for a sleeping or static body), one
 // backend batch a step with the drag run while it is in flight, a failed batch asked again body by
-// body, and the same bits for any thread count or order.
+// body, the same bits for any thread count or order, and a box body's rule under waves.
 
 #include <catch2/catch.hpp>
 
@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "hydrostatics/BoxHydrostaticsWaves.hpp"
 #include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -361,4 +362,70 @@ TEST_CASE("under waves an exact body's drag reads the jets its query sampled", "
     CHECK((shared.torque - own.torque).norm() <= 1e-3 * own.torque.norm() + 1e-3 * own.force.norm());
     CHECK(shared.force != own.force);  // the heights came from another grid
   }
+}
+
+TEST_CASE("under waves a box body takes its rule on its faces, and its drag reads the rule's jets",
+          "[step][bodies][waves][box]") {
+  // A body marked as a box (RigidBodyTask::boxHalfExtents, a btBoxShape's in the controller) under
+  // three waves: its hydrostatics are the rule's (BoxHydrostaticsWaves.cpp), bit for bit, not its
+  // prepared mesh's, and its drag asks the surface for no jets beyond the rule's grid. Where the
+  // rule declines (the top face level with the surface) the prepared mesh answers.
+  BoxWorld world;
+  const DragBody drag = world.dragBody();
+  CountingWaves sea;
+  const Expected<PreparedPolyhedron> prepared = PreparedPolyhedron::prepare(std::make_shared<const Mesh>(world.box));
+  REQUIRE(prepared);
+  RigidBodiesStep stepper;
+  const Eigen::Vector3d half(0.5, 0.25, 0.5);
+  for (int pose = 0; pose < 4; ++pose) {
+    INFO("pose " << pose);
+    RigidBodyTask task = world.task(-0.05 + 0.03 * pose, 0.05 * pose - 0.1, false, &drag);
+    task.exactMesh = nullptr;
+    task.exactPrepared = &*prepared;
+    task.boxHalfExtents = half;
+    task.input.liquid = DragLiquid{&sea, Eigen::Vector3d::Zero(), 1.0e-3, 1.3 + 0.7 * pose};
+    std::vector<RigidBodyTaskResult> results(1);
+    sea.jets = 0;
+    stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
+    REQUIRE(results[0].step);
+    const std::size_t stepJets = sea.jets;
+    HydrostaticsQuery query;
+    query.pose = task.motion.meshPose;
+    query.centerOfMass = task.centerOfMass;
+    query.gravity = 9.81;
+    query.time = task.input.liquid.time;
+    query.mass = task.motion.mass;
+    sea.jets = 0;
+    const auto rule = detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query);
+    REQUIRE(rule);
+    REQUIRE(*rule);
+    CHECK(sea.jets == stepJets);  // the drag read the rule's grid
+    CHECK(results[0].hydrostatics.buoyancyForce == (*rule)->buoyancyForce);
+    CHECK(results[0].hydrostatics.torqueAboutCenterOfMass == (*rule)->torqueAboutCenterOfMass);
+    const Expected<HydrostaticsResult> mesh = polyhedralHydrostatics(*prepared, sea, query);
+    REQUIRE(mesh);
+    CHECK(results[0].hydrostatics.buoyancyForce != mesh->buoyancyForce);
+    CHECK(results[0].counters.dragPasses == 1);
+  }
+  // Declined: the prepared mesh's answer.
+  RigidBodyTask task = world.task(0.0, 0.0, false, nullptr);
+  task.exactMesh = nullptr;
+  task.exactPrepared = &*prepared;
+  task.boxHalfExtents = half;
+  task.input.liquid = DragLiquid{&sea, Eigen::Vector3d::Zero(), 1.0e-3, 0.0};
+  task.motion.meshPose.translation = {1.0, sea.surfaceHeight(1.0, 2.0, 0.0) - 0.25, 2.0};
+  task.motion.center = task.motion.meshPose.apply(task.centerOfMass);
+  std::vector<RigidBodyTaskResult> results(1);
+  stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
+  REQUIRE(results[0].step);
+  HydrostaticsQuery query;
+  query.pose = task.motion.meshPose;
+  query.centerOfMass = task.centerOfMass;
+  query.gravity = 9.81;
+  query.time = 0.0;
+  query.mass = task.motion.mass;
+  CHECK_FALSE(detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query).has_value());
+  const Expected<HydrostaticsResult> mesh = polyhedralHydrostatics(*prepared, sea, query);
+  REQUIRE(mesh);
+  CHECK(results[0].hydrostatics.buoyancyForce == mesh->buoyancyForce);
 }

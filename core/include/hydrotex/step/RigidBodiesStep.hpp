@@ -45,6 +45,10 @@ struct RigidBodyTask {
   /// The body is a true sphere of this radius (m) about the mesh frame's origin: in flat water its
   /// hydrostatics in closed form (sphereHydrostatics), elsewhere the exact path on its mesh.
   std::optional<double> sphereRadius;
+  /// The body is a box of these half extents (m, along the mesh frame's axes) about the mesh
+  /// frame's origin, its mesh the box's 12 triangles: under waves its hydrostatics by a rule on
+  /// its faces where that applies, elsewhere the exact path on its mesh.
+  std::optional<Eigen::Vector3d> boxHalfExtents;
   Eigen::Vector3d centerOfMass = Eigen::Vector3d::Zero();  ///< m, mesh frame (the query's)
   Eigen::Vector3d boundsCenter = Eigen::Vector3d::Zero();  ///< m, mesh frame: centre of a sphere holding the mesh
   double boundsRadius = 0.0;                               ///< m, its radius
