@@ -102,7 +102,9 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   // The interpolated surface's slope (at most G) and height range over the footprint (a disc of
   // its half-diagonal about its centre), from its curvature's bound K over the cells.
   SurfaceJet centre;
-  if (!grid.interpolate(0.5 * width, 0.5 * depthZ, centre) || !std::isfinite(centre.height)) return notFinite(NAN);
+  // A grid that cannot interpolate (a jet missing where the surface folds, or a box so small that
+  // its cells' scale underflows) declines, as a height missing below: the mesh path answers.
+  if (!grid.interpolate(0.5 * width, 0.5 * depthZ, centre) || !std::isfinite(centre.height)) return std::nullopt;
   const double curvature = grid.curvatureBound(0.0, width, 0.0, depthZ);
   if (!std::isfinite(curvature)) return std::nullopt;
   const double footprintRadius = 0.5 * std::hypot(width, depthZ);
@@ -112,7 +114,7 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   const double surfaceLow = centre.height - heightReach, surfaceHigh = centre.height + heightReach;
   if (lowest >= surfaceHigh) return dry();
 
-  bool failed = false;  // a height the grid could not give
+  bool failed = false;  // a height the grid could not give (declined)
   const auto jetAt = [&](const Eigen::Vector3d& p, SurfaceJet& jet) {
     if (!grid.interpolate(p.x() - lowX, p.z() - lowZ, jet) || !std::isfinite(jet.height)) {
       failed = true;
@@ -161,7 +163,7 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
             wet = wet && depth > slack;
             dryFace = dryFace && depth < -slack;
           }
-        if (failed) return notFinite(NAN);
+        if (failed) return std::nullopt;
         if (dryFace) continue;
         if (!wet) return std::nullopt;
         whole = true;
@@ -179,7 +181,7 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
           upperWet = upperWet && upperDepth > slack;
           upperDry = upperDry && upperDepth < -slack;
         }
-        if (failed) return notFinite(NAN);
+        if (failed) return std::nullopt;
         if (lowerDry) continue;  // the face wholly over the surface
         whole = upperWet;
         crossed = !whole && lowerWet && upperDry;
@@ -223,7 +225,7 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
         }
       }
     }
-  if (failed) return notFinite(NAN);
+  if (failed) return std::nullopt;
   sums.setHydrostaticPressure(surface.density() * query.gravity);
   HydrostaticsResult result = finishHydrostatics(sums, origin, surface.density(), query, ForceModel::PressureSums, true);
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())

@@ -28,8 +28,9 @@ struct BoxQuadrature {
 /// of each face by a product rule (BoxHydrostaticsWaves.cpp). Empty where the rule does not apply
 /// (no bounds; a face the water line crosses that is not steep enough against the surface's
 /// slope, or whose water line may leave it through its upper or lower side; the jet grid cannot
-/// meet its error): the caller takes the exact path on the box's mesh. Errors: an invalid query
-/// (validateHydrostaticsQuery), a surface height that is not finite. `keep`, when given, receives
+/// meet its error or give a height, as for a box so small that its cells' scale underflows): the
+/// caller takes the exact path on the box's mesh. Errors: an invalid query
+/// (validateHydrostaticsQuery), a surface height above the centre of mass that is not finite. `keep`, when given, receives
 /// the grid of surface jets the heights were interpolated from. `rule`: the nodes (zeros: from the
 /// box's size against the waves); `used`, when given, receives them.
 std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vector3d& halfExtents,
