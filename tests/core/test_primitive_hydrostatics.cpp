@@ -401,9 +401,9 @@ TEST_CASE("box under waves: the rule in the limit of still waves is the exact pa
   // Waves of no amplitude offer smoothness bounds (so the rule runs) and are flat at their mean
   // level, where the exact path on the box's 12 triangles is exact. The depth is linear along each
   // of the rule's lines and the wet length linear across a face, so its Gauss nodes integrate
-  // every sum exactly: the two agree to rounding, over the poses taken (18 of 24: a tilt that
-  // brings a side's corner into the water, where the water line leaves a face through its upper
-  // or lower side, is declined, as is a top or bottom the water cuts).
+  // every sum exactly, piece by piece where the water line leaves a side face through its lower or
+  // upper side (the face cut there: these poses cut faces 18 times): the two agree to rounding
+  // over the poses taken (a tilt that puts the top or bottom face in the water line declines).
   const GerstnerWaves still = peersSea(0.0);
   const FlatSurface flat(0.0);
   const Eigen::Vector3d half(0.5, 0.25, 0.5);

@@ -10,20 +10,23 @@
 ///   it (unit f, half length a). The interpolated surface (the one integrated) has a slope of at
 ///   most G over the box's footprint (its slope at the centre plus K times the footprint's
 ///   half-diagonal, K its curvature's bound over the cells), so the depth D(s, t) = h - y falls
-///   strictly up every line of the face where e_y > G |e_h|. If moreover D > 0 along the whole
-///   lower side and D < 0 along the whole upper side (sampled, with the depth's slope along the
-///   side, G |f_h| + |f_y|, bounding it between samples), each line crosses the water line once,
-///   at t_w(s), found by Newton's method in its bracket, and the wet part of the face is
-///   {t < t_w(s)}: smooth in s, with no corner where the water line would leave through a side;
-/// - across, Gauss-Legendre nodes on [-a, a]; along each line, Gauss-Legendre nodes on [-b, t_w];
+///   strictly up every line of the face where e_y > G |e_h|: each line is wholly wet, wholly dry
+///   or crosses the water line once, at t_w(s), found by Newton's method in its bracket. The wet
+///   part's outline has a corner where the water line meets the face's lower or upper side: those
+///   points are found on both sides (sampled, the depth's slope along a side, G |f_h| + |f_y|,
+///   bounding it between samples, and its bend, K |f_h|^2, proving one root at most in a cell
+///   where the sign is in doubt; else declined), and the face's s-range is cut there, so that
+///   each piece's integrand is smooth in s;
+/// - across each piece, Gauss-Legendre nodes; along each line, Gauss-Legendre nodes on [-b, t_w];
 ///   a face wholly under the surface (by the same bounds) takes the whole of every line, a face
-///   wholly over it nothing;
+///   wholly over it nothing; a face too flat for the depth to fall up it (a level box's bottom)
+///   is taken only wholly wet or wholly dry (sampled on cells, bounded between);
 /// - the heights come from a grid of surface jets over the box's footprint (SurfaceJetGrid,
 ///   bicubic Hermite) within the exact path's interpolation error (kExactSurfaceModelTolerance /
 ///   30), so that a body's drag reads the same jets.
-/// Otherwise (a face the water line crosses that lies too flat against the waves, or a water line
-/// that may leave a face through its upper or lower side: a box on edge, or all but dry or
-/// submerged) the rule is not used: the caller takes the exact path on the mesh.
+/// Otherwise (a face the water line crosses that lies too flat against the waves: a level box's
+/// bottom or top in the water line, bench_peers' bobbing boxes one query in five) the rule is not
+/// used: the caller takes the exact path on the mesh.
 
 #include "hydrostatics/BoxHydrostaticsWaves.hpp"
 
@@ -167,61 +170,106 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
         if (dryFace) continue;
         if (!wet) return std::nullopt;
         whole = true;
-      } else if (!whole) {
-        // The lower and upper sides sampled, the depth's slope along them bounding it between.
-        const int samples = 2 * rule.across;
-        const double slack = (slopeBound * std::hypot(f.x(), f.z()) + std::abs(f.y())) * a / samples;
-        bool lowerWet = true, lowerDry = true, upperWet = true, upperDry = true;
-        for (int i = 0; i < samples; ++i) {
-          const double s = -a + (2.0 * i + 1.0) * a / samples;
-          const Eigen::Vector3d lower = faceCenter + s * f - b * e, upper = faceCenter + s * f + b * e;
-          const double lowerDepth = heightAt(lower) - lower.y(), upperDepth = heightAt(upper) - upper.y();
-          lowerWet = lowerWet && lowerDepth > slack;
-          lowerDry = lowerDry && lowerDepth < -slack;
-          upperWet = upperWet && upperDepth > slack;
-          upperDry = upperDry && upperDepth < -slack;
-        }
-        if (failed) return std::nullopt;
-        if (lowerDry) continue;  // the face wholly over the surface
-        whole = upperWet;
-        crossed = !whole && lowerWet && upperDry;
-        if (!whole && !crossed) return std::nullopt;  // the water line may leave through a side
       }
-      double lastCrossing = 0.0;
-      for (int i = 0; i < rule.across; ++i) {
-        const double s = -a + 2.0 * a * across.node[i], acrossWeight = 2.0 * a * across.weight[i];
-        const Eigen::Vector3d base = faceCenter + s * f;
-        double top = b;
-        if (crossed) {
-          // The water line on this line: D(t) = h(base + t e) - (base + t e)_y, falling, D(-b) > 0 > D(b).
-          double low = -b, high = b, t = std::clamp(lastCrossing, -b, b);
-          for (int iteration = 0; iteration < 60; ++iteration) {
-            const Eigen::Vector3d p = base + t * e;
+      // The face's s-range in pieces, cut where the water line meets its lower or upper side (the
+      // wet part's outline has a corner there, which the Gauss nodes must not straddle).
+      constexpr int kMaxCuts = 16;
+      double cuts[kMaxCuts + 2];
+      int cutCount = 0;
+      cuts[cutCount++] = -a;
+      if (!whole) {
+        // Both sides sampled at the middles of cells that tile them; the depth's slope along a
+        // side (at most L = G |f_h| + |f_y|) keeps a sample's sign over its cell when |D| > L h.
+        // In a cell where it may not, the depth's bend along the side (at most K |f_h|^2) keeps
+        // its slope's sign when that slope exceeds K |f_h|^2 h: then the cell holds one root at
+        // most, there where its ends' depths differ in sign; else the rule cannot say.
+        const int samples = 2 * rule.across;
+        const double h = a / samples, horizontal = std::hypot(f.x(), f.z());
+        const double slack = (slopeBound * horizontal + std::abs(f.y())) * h;
+        const double bend = curvature * horizontal * horizontal;
+        bool lowerDry = true, upperWet = true;
+        for (const double edge : {-b, b})
+          for (int i = 0; i < samples; ++i) {
+            const double s = -a + (2.0 * i + 1.0) * h;
+            const Eigen::Vector3d p = faceCenter + s * f + edge * e;
             SurfaceJet jet;
             jetAt(p, jet);
             const double depth = jet.height - p.y();
-            const double rate = jet.slopeX * e.x() + jet.slopeZ * e.z() - e.y();  // < 0
-            (depth > 0.0 ? low : high) = t;
-            const double step = rate < 0.0 ? depth / rate : INFINITY;
-            if (std::abs(step) < 1e-12 * (1.0 + b)) {
-              t -= step;
-              break;
+            if (edge < 0.0) lowerDry = lowerDry && depth < -slack;
+            if (edge > 0.0) upperWet = upperWet && depth > slack;
+            if (std::abs(depth) > slack) continue;
+            const double rate = jet.slopeX * f.x() + jet.slopeZ * f.z() - f.y();
+            if (!(std::abs(rate) > bend * h)) return std::nullopt;
+            const auto depthAt = [&](double position) {
+              const Eigen::Vector3d q = faceCenter + position * f + edge * e;
+              return heightAt(q) - q.y();
+            };
+            double low = s - h, high = s + h, lowDepth = depthAt(low), highDepth = depthAt(high);
+            if ((lowDepth > 0.0) == (highDepth > 0.0)) continue;  // monotone: no root in the cell
+            // The root by bisection (the depth is monotone here), to 1e-12 of the face.
+            while (high - low > 1e-12 * (1.0 + a)) {
+              const double middle = 0.5 * (low + high), middleDepth = depthAt(middle);
+              if ((middleDepth > 0.0) == (lowDepth > 0.0)) {
+                low = middle;
+                lowDepth = middleDepth;
+              } else {
+                high = middle;
+              }
             }
-            t = t - step > low && t - step < high ? t - step : 0.5 * (low + high);
-            if (high - low < 1e-12 * (1.0 + b)) break;
+            if (cutCount > kMaxCuts) return std::nullopt;
+            cuts[cutCount++] = 0.5 * (low + high);
           }
-          top = std::clamp(t, -b, b);
-          lastCrossing = top;
-        }
-        const double span = top + b;
-        for (int j = 0; j < rule.along; ++j) {
-          const Eigen::Vector3d p = base + (-b + span * along.node[j]) * e;
-          const double area = acrossWeight * span * along.weight[j];
-          const double height = heightAt(p);
-          const double depth = std::max(height - p.y(), 0.0);
-          const Eigen::Vector3d x = p - origin;
-          sums.addElement(x.x(), x.y(), x.z(), area * normal.x(), area * normal.y(), area * normal.z(), area, 1.0, depth,
-                          depth * depth, height - origin.y());
+        if (failed) return std::nullopt;
+        if (lowerDry) continue;  // the face wholly over the surface (its depth falls up every line)
+        whole = upperWet;
+        crossed = !whole;
+        std::sort(cuts + 1, cuts + cutCount);
+      }
+      cuts[cutCount++] = a;
+      for (int piece = 0; piece + 1 < cutCount; ++piece) {
+        const double from = cuts[piece], length = cuts[piece + 1] - cuts[piece];
+        if (!(length > 0.0)) continue;
+        double lastCrossing = 0.0;
+        for (int i = 0; i < rule.across; ++i) {
+          const double s = from + length * across.node[i], acrossWeight = length * across.weight[i];
+          const Eigen::Vector3d base = faceCenter + s * f;
+          double top = b;
+          if (crossed) {
+            // This line wholly dry, wholly wet, or crossed once: D(t) = h(base + t e) - (base + t e)_y
+            // falls, D(-b) > 0 > D(b), its root by Newton's method in its bracket.
+            const Eigen::Vector3d lower = base - b * e, upper = base + b * e;
+            if (heightAt(lower) - lower.y() <= 0.0) continue;
+            if (heightAt(upper) - upper.y() < 0.0) {
+              double low = -b, high = b, t = std::clamp(lastCrossing, -b, b);
+              for (int iteration = 0; iteration < 60; ++iteration) {
+                const Eigen::Vector3d p = base + t * e;
+                SurfaceJet jet;
+                jetAt(p, jet);
+                const double depth = jet.height - p.y();
+                const double rate = jet.slopeX * e.x() + jet.slopeZ * e.z() - e.y();  // < 0
+                (depth > 0.0 ? low : high) = t;
+                const double step = rate < 0.0 ? depth / rate : INFINITY;
+                if (std::abs(step) < 1e-12 * (1.0 + b)) {
+                  t -= step;
+                  break;
+                }
+                t = t - step > low && t - step < high ? t - step : 0.5 * (low + high);
+                if (high - low < 1e-12 * (1.0 + b)) break;
+              }
+              top = std::clamp(t, -b, b);
+              lastCrossing = top;
+            }
+          }
+          const double span = top + b;
+          for (int j = 0; j < rule.along; ++j) {
+            const Eigen::Vector3d p = base + (-b + span * along.node[j]) * e;
+            const double area = acrossWeight * span * along.weight[j];
+            const double height = heightAt(p);
+            const double depth = std::max(height - p.y(), 0.0);
+            const Eigen::Vector3d x = p - origin;
+            sums.addElement(x.x(), x.y(), x.z(), area * normal.x(), area * normal.y(), area * normal.z(), area, 1.0, depth,
+                            depth * depth, height - origin.y());
+          }
         }
       }
     }

@@ -27,7 +27,7 @@ struct BoxQuadrature {
 /// (Gerstner waves): the exact path's sums (HydrostaticSums.hpp) integrated over the wetted part
 /// of each face by a product rule (BoxHydrostaticsWaves.cpp). Empty where the rule does not apply
 /// (no bounds; a face the water line crosses that is not steep enough against the surface's
-/// slope, or whose water line may leave it through its upper or lower side; the jet grid cannot
+/// slope, or where the rule cannot prove where the water line meets its sides; the jet grid cannot
 /// meet its error or give a height, as for a box so small that its cells' scale underflows): the
 /// caller takes the exact path on the box's mesh. Errors: an invalid query
 /// (validateHydrostaticsQuery), a surface height above the centre of mass that is not finite. `keep`, when given, receives
