@@ -464,10 +464,11 @@ TEST_CASE("box under waves: the rule against the exact path on the box cut fine,
                                    ((*rule)->torqueAboutCenterOfMass - reference->torqueAboutCenterOfMass).norm() / weight,
                                    std::abs((*rule)->submergedVolume - (*converged)->submergedVolume) / volume};
     for (int k = 0; k < 4; ++k) worst[k] = std::max(worst[k], differences[k]);
-    CHECK(differences[0] <= 3e-5);
-    CHECK(differences[1] <= 3e-5);
+    // Bounds: about twice the worst measured, each under the prepared mesh's 3.3e-5.
+    CHECK(differences[0] <= 1e-5);
+    CHECK(differences[1] <= 1e-5);
     CHECK(differences[2] <= 3e-5);
-    CHECK(differences[3] <= 3e-5);
+    CHECK(differences[3] <= 1.5e-5);
   }
   CHECK(taken >= 14);
   WARN("box under waves, rule against the box cut fine: volume " << worst[0] << ", force " << worst[1] << ", torque "

@@ -377,6 +377,16 @@ TEST_CASE("under waves a box body takes its rule on its faces, and its drag read
   REQUIRE(prepared);
   RigidBodiesStep stepper;
   const Eigen::Vector3d half(0.5, 0.25, 0.5);
+  // The query the step makes of a task (RigidBodiesStep.cpp's queryOf).
+  const auto queryOfTask = [](const RigidBodyTask& task) {
+    HydrostaticsQuery query;
+    query.pose = task.motion.meshPose;
+    query.centerOfMass = task.centerOfMass;
+    query.gravity = -task.input.gravity.y();
+    query.time = task.input.liquid.time;
+    query.mass = task.motion.mass;
+    return query;
+  };
   for (int pose = 0; pose < 4; ++pose) {
     INFO("pose " << pose);
     RigidBodyTask task = world.task(-0.05 + 0.03 * pose, 0.05 * pose - 0.1, false, &drag);
@@ -389,12 +399,7 @@ TEST_CASE("under waves a box body takes its rule on its faces, and its drag read
     stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
     REQUIRE(results[0].step);
     const std::size_t stepJets = sea.jets;
-    HydrostaticsQuery query;
-    query.pose = task.motion.meshPose;
-    query.centerOfMass = task.centerOfMass;
-    query.gravity = 9.81;
-    query.time = task.input.liquid.time;
-    query.mass = task.motion.mass;
+    const HydrostaticsQuery query = queryOfTask(task);
     sea.jets = 0;
     const auto rule = detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query);
     REQUIRE(rule);
@@ -418,12 +423,7 @@ TEST_CASE("under waves a box body takes its rule on its faces, and its drag read
   std::vector<RigidBodyTaskResult> results(1);
   stepper.run(world.backend, sea, std::span(&task, 1), results, {}, kDt);
   REQUIRE(results[0].step);
-  HydrostaticsQuery query;
-  query.pose = task.motion.meshPose;
-  query.centerOfMass = task.centerOfMass;
-  query.gravity = 9.81;
-  query.time = 0.0;
-  query.mass = task.motion.mass;
+  const HydrostaticsQuery query = queryOfTask(task);
   CHECK_FALSE(detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query).has_value());
   const Expected<HydrostaticsResult> mesh = polyhedralHydrostatics(*prepared, sea, query);
   REQUIRE(mesh);

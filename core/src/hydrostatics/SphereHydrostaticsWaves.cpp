@@ -173,10 +173,11 @@ std::optional<Expected<HydrostaticsResult>> waveSphereHydrostatics(double radius
   };
   WettedSums sums;
   // The drag's nodes (`nodes`): every other meridian (each one where they are odd in number), with
-  // half the polar nodes (rounded up) on the same wet arcs. Its law is only C1 where a face turns from advancing to retreating, and the
-  // coarser rule integrates it within 1.7e-3 of the converged one in bench_peers' sea (the
-  // finer one's 1.3e-4 would cost four times the liquid velocities; the mesh's patches were
-  // 16 % off): test_sphere_body.
+  // half the polar nodes (rounded up) on the same wet arcs. Its law is only C1 where a face turns
+  // from advancing to retreating; the coarser nodes integrate it within 2.3e-3 of the converged
+  // force in bench_peers' sea (a 60-pose probe; test_rigid_body_step: 1.9e-3 over 16), where the
+  // rule's own 16 x 8 nodes gave 1.3e-4 for four times the liquid velocities and the mesh's
+  // patches were 16 % off.
   const int dragPolarNodes = (rule.polarNodes + 1) / 2, dragStride = rule.azimuths % 2 == 0 ? 2 : 1;
   const GaussRule& dragGauss = gaussRule(dragPolarNodes);
   if (nodes) nodes->reserve(std::size_t(rule.azimuths / dragStride) * std::size_t(dragPolarNodes));

@@ -565,13 +565,13 @@ DragLoads detail::rigidBodyDragOnNodes(const DragBody& body, const RigidBodyMoti
   double levels[kChunk];
   for (std::size_t first = 0; first < nodes.size(); first += kChunk) {
     const std::size_t count = std::min(kChunk, nodes.size() - first);
-    for (std::size_t k = 0; k < count; ++k) {
-      points[k] = nodes[first + k].position;
-      levels[k] = nodes[first + k].surfaceHeight;
-    }
     if (still) {
       for (std::size_t k = 0; k < count; ++k) liquidVelocities[k].setZero();
     } else {
+      for (std::size_t k = 0; k < count; ++k) {
+        points[k] = nodes[first + k].position;
+        levels[k] = nodes[first + k].surfaceHeight;
+      }
       surface.velocitiesBelow(std::span(points, count), std::span(levels, count), liquid.time,
                               std::span(liquidVelocities, count));
     }
