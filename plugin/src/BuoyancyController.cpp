@@ -773,6 +773,8 @@ void BuoyancyController::readBody(FloatingBody& floating, RigidBodyTask& task) c
     drag.coefficients = settings.drag;
     drag.rotationalDamping = settings.rotationalDamping;
     drag.damping = floating.dragDamping;
+    drag.sphereRadius = floating.sphereRadius;      // flat water: the law on its wetted surface's nodes
+    drag.boxHalfExtents = floating.boxHalfExtents;  // (the patches' ramp is approximate at the water line)
     input.drag = &drag;
   }
   input.liquid = DragLiquid{liquid_.surface.get(), toEigen(liquid_.current), liquid_.viscosity, time_};

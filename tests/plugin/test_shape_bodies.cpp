@@ -441,6 +441,33 @@ TEST_CASE("addAllBodies floats a world's boxes and capsules as their own shapes 
   }
 }
 
+TEST_CASE("a box shape's drag in flat water runs on its faces' nodes on the exact path; without drag on none",
+          "[shape][floating][drag]") {
+  // Half in still water, level, the drag sums its law on the 2 x 2 nodes of each wetted face's
+  // one piece (the bottom, wholly wet, and the four sides, cut by the water line from side to side:
+  // 20 a step), not on the box mesh's 64 patches: test_rigid_body_step checks the drag they give.
+  // A body that asks no drag pays for none: no drag pass, no node visited.
+  for (bool drag : {true, false}) {
+    INFO("drag " << drag);
+    TestWorld world;
+    btBoxShape shape(btVector3(0.5f, 0.25f, 0.5f));
+    btRigidBody body(btRigidBody::btRigidBodyConstructionInfo(1, nullptr, &shape, btVector3(1, 1, 1)));
+    body.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.3f, 0.02f, 0.1f)));
+    FloatingBodySettings settings = solid(500.0, drag ? EffectSet{Effect::Buoyancy, Effect::Drag} : EffectSet{Effect::Buoyancy},
+                                          HydrostaticsMethod::Polyhedral);
+    REQUIRE(world.controller().addBody(&body, settings).ok());
+    world.world().addRigidBody(&body);
+    const int steps = 30;
+    for (int i = 0; i < steps; ++i) world.step(1.0 / 60.0);
+    const ControllerStatistics& statistics = world.controller().statistics();
+    CHECK(statistics.failedQueries == 0);
+    CHECK(statistics.dragPasses == (drag ? std::uint64_t(steps) : 0u));
+    CHECK(statistics.dragPatchesVisited == (drag ? std::uint64_t(steps) * 20u : 0u));
+    world.world().removeRigidBody(&body);
+    world.controller().removeBody(&body);
+  }
+}
+
 TEST_CASE("scene bodies given by `shape` float as Bullet primitives", "[shape][scene]") {
   const std::string scene = R"({
     "dt": 0.0083333333, "duration": 25,
@@ -542,7 +569,12 @@ TEST_CASE("bodies of one shape, of shapes alike, or of one mesh file share one m
   auto height = [&](std::size_t i) { return double(bodies[i]->getCenterOfMassPosition().y()); };
   for (std::size_t i : {1, 2}) CHECK(std::abs(height(i) - height(0)) <= rounding);
   CHECK(std::abs(height(4) - height(3)) <= rounding);
-  CHECK(std::abs(height(3) - height(0)) <= 1e-6);  // the file's box is the shape's box, its triangles in another order
+  // The file's box is the shape's box, its triangles in another order; but on the exact path the
+  // btBoxShape's drag is summed on its faces' nodes (DragBody::boxHalfExtents) and the file's on its
+  // mesh's patches, whose wet ramp at the water line is coarser: 0.77 mm apart after the second.
+  const bool boxNodes = controller.report(bodies[0].get())->method == HydrostaticsMethod::Polyhedral;
+  CHECK(std::abs(height(3) - height(0)) <= (boxNodes ? 2e-3 : 1e-6));
+  if (boxNodes) CHECK(std::abs(height(3) - height(0)) > 1e-6);  // the nodes are taken
   for (std::size_t i : {7, 8}) CHECK(std::abs(height(i) - height(6)) <= rounding);
   CHECK(std::abs(height(5) - height(0)) > 1e-3);  // the taller box floats otherwise: the check can fail
   CHECK(controller.statistics().failedQueries == 0);

@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "hydrostatics/GaussLegendre.hpp"
 #include "hydrostatics/HydrostaticSums.hpp"
@@ -279,6 +280,65 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
     return Expected<HydrostaticsResult>(Error{"box hydrostatics: non-finite result"});
   return Expected<HydrostaticsResult>(std::move(result));
+}
+
+}  // namespace hydrotex::detail
+
+namespace hydrotex::detail {
+
+void flatBoxDragNodes(const Eigen::Vector3d& halfExtents, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& center,
+                      double level, std::vector<WettedNode>& nodes, BoxQuadrature rule) {
+  nodes.clear();
+  if (!(halfExtents.minCoeff() > 0.0) || !halfExtents.allFinite() || !center.allFinite() || !std::isfinite(level)) return;
+  const int acrossCount = std::clamp(rule.across, 1, kMaxGaussNodes), alongCount = std::clamp(rule.along, 1, kMaxGaussNodes);
+  const GaussRule& across = gaussRule(acrossCount);
+  const GaussRule& along = gaussRule(alongCount);
+  const Eigen::Vector3d axis[3] = {halfExtents.x() * rotation.col(0), halfExtents.y() * rotation.col(1),
+                                   halfExtents.z() * rotation.col(2)};
+  for (int k = 0; k < 3; ++k)
+    for (const double side : {-1.0, 1.0}) {
+      const Eigen::Vector3d normal = side * rotation.col(k);
+      const Eigen::Vector3d faceCenter = center + side * axis[k];
+      const Eigen::Vector3d& first = axis[(k + 1) % 3];
+      const Eigen::Vector3d& second = axis[(k + 2) % 3];
+      if (faceCenter.y() - std::abs(first.y()) - std::abs(second.y()) >= level) continue;  // wholly dry
+      // t up the steeper side (unit e, e_y >= 0, half length b), s across the other (f, a): the
+      // depth level - y falls up every line, which is wholly wet, wholly dry or crossed once, at
+      // t_w(s) = (level - y_c - s f_y) / e_y.
+      const bool firstSteeper = std::abs(first.y()) * second.norm() >= std::abs(second.y()) * first.norm();
+      const Eigen::Vector3d& steep = firstSteeper ? first : second;
+      const Eigen::Vector3d& flat = firstSteeper ? second : first;
+      const double b = steep.norm(), a = flat.norm();
+      const Eigen::Vector3d e = (steep.y() >= 0.0 ? 1.0 : -1.0) * steep / b, f = flat / a;
+      const double rise = level - faceCenter.y();
+      // The s-range cut where the water line meets the lower or upper side (t = -b, b): the wet
+      // part's outline has a corner there.
+      double cuts[4] = {-a, 0.0, 0.0, 0.0};
+      int cutCount = 1;
+      if (e.y() > 0.0 && f.y() != 0.0)
+        for (const double edge : {-b, b}) {
+          const double s = (rise - edge * e.y()) / f.y();
+          if (s > -a && s < a) cuts[cutCount++] = s;
+        }
+      if (cutCount == 3 && cuts[2] < cuts[1]) std::swap(cuts[1], cuts[2]);
+      cuts[cutCount++] = a;
+      for (int piece = 0; piece + 1 < cutCount; ++piece) {
+        const double from = cuts[piece], length = cuts[piece + 1] - cuts[piece];
+        if (!(length > 0.0)) continue;
+        for (int i = 0; i < acrossCount; ++i) {
+          const double s = from + length * across.node[i], acrossWeight = length * across.weight[i];
+          // The line's wet part, [-b, top]: a level face (e_y = 0) is wholly wet below the level.
+          const double top = e.y() > 0.0 ? std::clamp((rise - s * f.y()) / e.y(), -b, b) : (rise > 0.0 ? b : -b);
+          const double span = top + b;
+          if (!(span > 0.0)) continue;
+          const Eigen::Vector3d base = faceCenter + s * f;
+          for (int j = 0; j < alongCount; ++j) {
+            const double area = acrossWeight * span * along.weight[j];
+            nodes.push_back(WettedNode{base + (-b + span * along.node[j]) * e, area * normal, area, level});
+          }
+        }
+      }
+    }
 }
 
 }  // namespace hydrotex::detail

@@ -11,6 +11,7 @@
 
 #include "hydrotex/Expected.hpp"
 #include "hydrotex/hydrostatics/Hydrostatics.hpp"
+#include "hydrostatics/WettedNode.hpp"
 #include "hydrotex/hydrostatics/LiquidSurface.hpp"
 
 namespace hydrotex::detail {
@@ -21,16 +22,6 @@ class SurfaceJetGrid;  // SurfaceJetGrid.hpp
 struct SphereQuadrature {
   int azimuths = 0;     ///< M, equally spaced (the trapezoidal rule, periodic)
   int polarNodes = 0;   ///< K, Gauss-Legendre nodes on each meridian's wet arc
-};
-
-/// A node of the rule on the sphere's wetted surface (world frame): where it lies, its outward
-/// area vector (its weight times the unit normal, m^2), its weight (m^2) and the interpolated
-/// surface's height above it (m). The body's drag sums its law on them (RigidBodiesStep.cpp).
-struct WettedNode {
-  Eigen::Vector3d position;    ///< m, world
-  Eigen::Vector3d areaVector;  ///< m^2, world, outward
-  double area = 0.0;           ///< m^2
-  double surfaceHeight = 0.0;  ///< m, world
 };
 
 /// The hydrostatics of a solid sphere of `radius` (m) centred at `center` (m, body frame) under a

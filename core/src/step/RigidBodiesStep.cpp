@@ -228,15 +228,7 @@ void RigidBodiesStep::sumDrag(const Batch& batch, std::size_t i) {
   const RigidBodyTask& task = batch.tasks[i];
   if (batch.results[i].plan != RigidBodyPlan::Computed || task.input.drag == nullptr) return;
   if (dragAfterExactQuery(batch, i)) return;  // summed in update(), on its query's jets
-  // A true sphere in flat water: the law on its cap's nodes, as under waves (its drag within 2e-3
-  // of the law's integral, where its tessellation's patches were up to 14 % off).
-  const std::optional<double> level = batch.surface.flatHeight();
-  if (task.sphereRadius && level && batch.surface.hasFreeSurface()) {
-    std::vector<detail::WettedNode>& nodes = threadWettedNodes();
-    detail::flatSphereDragNodes(*task.sphereRadius, task.motion.meshPose.translation, *level, nodes);
-    drag_[i] = detail::rigidBodyDragOnNodes(*task.input.drag, task.motion, task.input.liquid, batch.dt, nodes);
-    return;
-  }
+  // (A sphere or box in flat water sums it on its wetted surface's nodes: DragBody::sphereRadius.)
   drag_[i] = rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt);
 }
 

@@ -14,7 +14,7 @@
 namespace hydrotex::detail {
 
 class SurfaceJetGrid;  // hydrostatics/SurfaceJetGrid.hpp
-struct WettedNode;     // hydrostatics/SphereHydrostaticsWaves.hpp
+struct WettedNode;     // hydrostatics/WettedNode.hpp
 
 /// rigidBodyDrag with `jets` (may be null: a grid of its own) as SurfaceHeights' shared grid: taken
 /// where it is of the liquid's surface and time and its spacing meets kDragSurfaceHeightError.

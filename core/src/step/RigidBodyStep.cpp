@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "hydrostatics/BoxHydrostaticsWaves.hpp"
 #include "hydrostatics/SphereHydrostaticsWaves.hpp"
 #include "hydrostatics/SurfaceJetGrid.hpp"
 #include "hydrostatics/TexelDragLaw.hpp"
@@ -208,6 +209,12 @@ PosedDragColumns& posedDragScratch() {
   return columns;
 }
 
+/// A primitive's drag nodes under a flat surface (rigidBodyDrag): one list per thread, reused.
+std::vector<detail::WettedNode>& primitiveDragNodes() {
+  thread_local std::vector<detail::WettedNode> nodes;
+  return nodes;
+}
+
 /// The law on one posed element (r from the centre of mass, its velocity relative to the liquid,
 /// area vector, area, wet fraction), one at a time, added to `sums`: where the lanes are not
 /// built, or the liquid's density varies from place to place.
@@ -381,8 +388,20 @@ DragLoads rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, con
 
 DragLoads detail::rigidBodyDrag(const DragBody& body, const RigidBodyMotion& motion, const DragLiquid& liquid, double dt,
                                 SurfaceJetGrid* jets) {
-  DragLoads out;
   const LiquidSurface& surface = *liquid.surface;
+  // A sphere or a box under a flat free surface: the law on the nodes of its wetted surface.
+  if ((body.sphereRadius || body.boxHalfExtents) && surface.hasFreeSurface()) {
+    if (const std::optional<double> level = surface.flatHeight()) {
+      std::vector<detail::WettedNode>& nodes = primitiveDragNodes();
+      if (body.sphereRadius)
+        detail::flatSphereDragNodes(*body.sphereRadius, motion.meshPose.translation, *level, nodes);
+      else
+        detail::flatBoxDragNodes(*body.boxHalfExtents, motion.meshPose.rotation, motion.meshPose.translation, *level,
+                                 nodes);
+      return rigidBodyDragOnNodes(body, motion, liquid, dt, nodes);
+    }
+  }
+  DragLoads out;
   const Eigen::Matrix3d& rotation = motion.meshPose.rotation;
   const Eigen::Vector3d& translation = motion.meshPose.translation;
   const Eigen::Vector3d& center = motion.center;
