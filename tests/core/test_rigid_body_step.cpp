@@ -35,35 +35,42 @@ namespace {
 
 constexpr double kDtForDrag = 1.0 / 60.0;
 
-// A sphere's drag on mesh patches of a 20,480-face icosphere of radius `r` (m): the controller's
-// (radius 0.2 m, normals within 0.9: 153 patches for r = 0.5) and fine ones (0.05 m, 0.99).
-// Built in place: the bodies refer to the patches.
-struct SpherePatchBodies {
-  explicit SpherePatchBodies(double r)
-      : mesh(primitives::icosphere(r, 5)),
-        coarsePatches(meshDragPatches(mesh, 0.9, 0.2)),
-        finePatches(meshDragPatches(mesh, 0.99, 0.05)),
+// A body's drag on mesh patches, coarse (the controller's: normals within 0.9, radius
+// `coarseRadius`, m) on `coarseMesh` and fine (0.99, `fineRadius`) on `fineMesh`; the reference
+// length `length` (m). Built in place: the bodies refer to the patches.
+struct PatchBodies {
+  PatchBodies(const Mesh& coarseMesh, const Mesh& fineMesh, double coarseRadius, double fineRadius, double length)
+      : coarsePatches(meshDragPatches(coarseMesh, 0.9, coarseRadius)),
+        finePatches(meshDragPatches(fineMesh, 0.99, fineRadius)),
         coarseSet(prepareDragPatches(coarsePatches)),
         fineSet(prepareDragPatches(finePatches)),
-        coarse(bodyOf(coarsePatches, coarseSet, r)),
-        fine(bodyOf(finePatches, fineSet, r)) {}
-  SpherePatchBodies(const SpherePatchBodies&) = delete;
-  SpherePatchBodies& operator=(const SpherePatchBodies&) = delete;
+        coarse(bodyOf(coarsePatches, coarseSet, length)),
+        fine(bodyOf(finePatches, fineSet, length)) {}
+  PatchBodies(const PatchBodies&) = delete;
+  PatchBodies& operator=(const PatchBodies&) = delete;
 
-  Mesh mesh;
   std::vector<DragPatch> coarsePatches, finePatches;
   DragPatchSet coarseSet, fineSet;
   DragBody coarse, fine;
 
  private:
-  static DragBody bodyOf(const std::vector<DragPatch>& patches, const DragPatchSet& set, double r) {
+  static DragBody bodyOf(const std::vector<DragPatch>& patches, const DragPatchSet& set, double length) {
     DragBody body;
     body.patches = patches;
     body.prepared = &set;
-    body.referenceLength = 2.0 * r;
+    body.referenceLength = length;
     for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
     return body;
   }
+};
+
+// A sphere's patch bodies on a 20,480-face icosphere of radius `r` (m): the controller's (radius
+// 0.2 m: 153 patches for r = 0.5) and fine ones (0.05 m).
+struct SpherePatchBodies : PatchBodies {
+  explicit SpherePatchBodies(double r) : SpherePatchBodies(primitives::icosphere(r, 5), r) {}
+
+ private:
+  SpherePatchBodies(const Mesh& mesh, double r) : PatchBodies(mesh, mesh, 0.2, 0.05, 2.0 * r) {}
 };
 
 RigidBodyMotion cube(double mass) {
@@ -933,20 +940,8 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
   const FlatSurface water(0.0, 1000.0);
   const Eigen::Vector3d extents(1.0, 0.5, 1.0), half = 0.5 * extents;
   const double length = extents.norm();
-  const Mesh coarseMesh = primitives::box(extents), fineMesh = primitives::subdividedBox(extents, 40);
-  const std::vector<DragPatch> coarsePatches = meshDragPatches(coarseMesh, 0.9, 0.2),
-                               finePatches = meshDragPatches(fineMesh, 0.99, 0.025);
-  const DragPatchSet coarseSet = prepareDragPatches(coarsePatches), fineSet = prepareDragPatches(finePatches);
-  const auto bodyOf = [&](const std::vector<DragPatch>& patches, const DragPatchSet& set) {
-    DragBody body;
-    body.patches = patches;
-    body.prepared = &set;
-    body.referenceLength = 1.0;
-    for (const DragPatch& patch : patches) body.totalPatchArea += patch.area;
-    return body;
-  };
-  const DragBody coarse = bodyOf(coarsePatches, coarseSet), fine = bodyOf(finePatches, fineSet);
-  DragBody box = coarse;  // the controller's: its patches' area, its nodes for the law
+  const PatchBodies bodies(primitives::box(extents), primitives::subdividedBox(extents, 40), 0.2, 0.025, 1.0);
+  DragBody box = bodies.coarse;  // the controller's: its patches' area, its nodes for the law
   box.boxHalfExtents = half;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -969,9 +964,9 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
     motion.angularVelocity = Eigen::Vector3d(0.5 * unit(rng), 0.5 * unit(rng), 0.5 * unit(rng));
     const DragLiquid liquid{&water, Eigen::Vector3d(0.2 * unit(rng), 0.0, 0.2 * unit(rng)), 1e-3, 0.0};
     detail::flatBoxDragNodes(half, motion.meshPose.rotation, motion.center, 0.0, nodes, {48, 48});
-    const DragLoads converged = detail::rigidBodyDragOnNodes(coarse, motion, liquid, kDtForDrag, nodes);
+    const DragLoads converged = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
     detail::flatBoxDragNodes(half, motion.meshPose.rotation, motion.center, 0.0, nodes);
-    const DragLoads onNodes = detail::rigidBodyDragOnNodes(coarse, motion, liquid, kDtForDrag, nodes);
+    const DragLoads onNodes = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
     REQUIRE(converged.force.norm() > 1.0);
     // Each line's wet part and each piece's span are linear, so every rule gives the wetted area
     // (the faces' rectangles clipped at the level) to rounding.
@@ -982,7 +977,7 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
     const DragLoads viaBody = rigidBodyDrag(box, motion, liquid, kDtForDrag);
     CHECK((viaBody.force - onNodes.force).norm() <= 1e-12 * onNodes.force.norm());
     CHECK(viaBody.patchesVisited == nodes.size());
-    const NodeDragDifferences one = worst.add(onNodes, converged, coarse, fine, motion, liquid, length);
+    const NodeDragDifferences one = worst.add(onNodes, converged, bodies.coarse, bodies.fine, motion, liquid, length);
     detail::flatBoxDragNodes(half, motion.meshPose.rotation, motion.center, 0.0, nodes);
     CHECK(one.force <= 8e-3);
     CHECK(one.torque <= 5e-3);
@@ -999,8 +994,8 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
   CHECK(nodes.size() == 5u * 4u);
   WARN("flat box drag on nodes against 48 x 48: force " << worst.force << ", torque " << worst.torque << ", damping "
                                                           << worst.damping << "; patches coarse " << worst.coarse
-                                                          << ", fine " << worst.fine << " (" << coarsePatches.size()
-                                                          << " and " << finePatches.size() << " patches)");
+                                                          << ", fine " << worst.fine << " (" << bodies.coarsePatches.size()
+                                                          << " and " << bodies.finePatches.size() << " patches)");
 }
 
 TEST_CASE("rigid body drag: its damping is the derivative of its force and torque", "[step][drag]") {

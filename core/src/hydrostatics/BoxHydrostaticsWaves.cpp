@@ -41,6 +41,23 @@
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
 
 namespace hydrotex::detail {
+namespace {
+
+/// A face's axes from its two half-side vectors (m, world): t runs up the steeper side (unit e,
+/// e_y >= 0, half length b), s across the other (unit f, half length a).
+struct FaceAxes {
+  Eigen::Vector3d e, f;
+  double a, b;
+};
+FaceAxes faceAxes(const Eigen::Vector3d& first, const Eigen::Vector3d& second) {
+  const bool firstSteeper = std::abs(first.y()) * second.norm() >= std::abs(second.y()) * first.norm();
+  const Eigen::Vector3d& steep = firstSteeper ? first : second;
+  const Eigen::Vector3d& flat = firstSteeper ? second : first;
+  const double b = steep.norm(), a = flat.norm();
+  return {(steep.y() >= 0.0 ? 1.0 : -1.0) * steep / b, flat / a, a, b};
+}
+
+}  // namespace
 
 std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vector3d& halfExtents,
                                                                 const Eigen::Vector3d& center,
@@ -146,12 +163,9 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
       const double faceReach = std::abs(first.y()) + std::abs(second.y());
       if (faceCenter.y() - faceReach >= surfaceHigh) continue;  // wholly over the surface
       const bool wholeByBounds = faceCenter.y() + faceReach <= surfaceLow;
-      // t up the steeper side, s across the other.
-      const bool firstSteeper = std::abs(first.y()) * second.norm() >= std::abs(second.y()) * first.norm();
-      const Eigen::Vector3d& steep = firstSteeper ? first : second;
-      const Eigen::Vector3d& flat = firstSteeper ? second : first;
-      const double b = steep.norm(), a = flat.norm();
-      const Eigen::Vector3d e = (steep.y() >= 0.0 ? 1.0 : -1.0) * steep / b, f = flat / a;
+      const FaceAxes axes = faceAxes(first, second);
+      const double a = axes.a, b = axes.b;
+      const Eigen::Vector3d &e = axes.e, &f = axes.f;
       bool whole = wholeByBounds, crossed = false;
       if (!whole && !(e.y() > slopeBound * std::hypot(e.x(), e.z()))) {
         // Too flat for the depth to fall up its lines (a level box's bottom): the rule takes it
@@ -302,14 +316,11 @@ void flatBoxDragNodes(const Eigen::Vector3d& halfExtents, const Eigen::Matrix3d&
       const Eigen::Vector3d& first = axis[(k + 1) % 3];
       const Eigen::Vector3d& second = axis[(k + 2) % 3];
       if (faceCenter.y() - std::abs(first.y()) - std::abs(second.y()) >= level) continue;  // wholly dry
-      // t up the steeper side (unit e, e_y >= 0, half length b), s across the other (f, a): the
-      // depth level - y falls up every line, which is wholly wet, wholly dry or crossed once, at
-      // t_w(s) = (level - y_c - s f_y) / e_y.
-      const bool firstSteeper = std::abs(first.y()) * second.norm() >= std::abs(second.y()) * first.norm();
-      const Eigen::Vector3d& steep = firstSteeper ? first : second;
-      const Eigen::Vector3d& flat = firstSteeper ? second : first;
-      const double b = steep.norm(), a = flat.norm();
-      const Eigen::Vector3d e = (steep.y() >= 0.0 ? 1.0 : -1.0) * steep / b, f = flat / a;
+      // The depth level - y falls up every line (t), which is wholly wet, wholly dry or crossed
+      // once, at t_w(s) = (level - y_c - s f_y) / e_y.
+      const FaceAxes axes = faceAxes(first, second);
+      const double a = axes.a, b = axes.b;
+      const Eigen::Vector3d &e = axes.e, &f = axes.f;
       const double rise = level - faceCenter.y();
       // The s-range cut where the water line meets the lower or upper side (t = -b, b): the wet
       // part's outline has a corner there.
