@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hydrostatics/BoxHydrostaticsWaves.hpp"
+#include "step/RigidBodyDragWithJets.hpp"
 #include "hydrotex/backend/ComputeBackend.hpp"
 #include "hydrotex/bake/BodyGeometry.hpp"
 #include "hydrotex/hydrostatics/PolyhedralHydrostatics.hpp"
@@ -364,11 +365,12 @@ TEST_CASE("under waves an exact body's drag reads the jets its query sampled", "
   }
 }
 
-TEST_CASE("under waves a box body takes its rule on its faces, and its drag reads the rule's jets",
+TEST_CASE("under waves a box body takes its rule on its faces, and its drag the rule's jets and nodes",
           "[step][bodies][waves][box]") {
   // A body marked as a box (RigidBodyTask::boxHalfExtents, a btBoxShape's in the controller) under
   // three waves: its hydrostatics are the rule's (BoxHydrostaticsWaves.cpp), bit for bit, not its
-  // prepared mesh's, and its drag asks the surface for no jets beyond the rule's grid. Where the
+  // prepared mesh's, and its drag asks the surface for no jets beyond the rule's grid and sums its
+  // law on the rule's drag nodes. Where the
   // rule declines (the top face level with the surface) the prepared mesh answers.
   BoxWorld world;
   const DragBody drag = world.dragBody();
@@ -405,6 +407,12 @@ TEST_CASE("under waves a box body takes its rule on its faces, and its drag read
     REQUIRE(rule);
     REQUIRE(*rule);
     CHECK(sea.jets == stepJets);  // the drag read the rule's grid
+    // ... and summed its law on the rule's drag nodes, not on the box mesh's patches.
+    std::vector<detail::WettedNode> nodes;
+    REQUIRE(detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query, nullptr, {}, nullptr, &nodes));
+    const DragLoads onNodes = detail::rigidBodyDragOnNodes(drag, task.motion, task.input.liquid, kDt, nodes);
+    CHECK(results[0].step->drag.force == onNodes.force);
+    CHECK(results[0].counters.dragPatchesVisited == nodes.size());
     CHECK(results[0].hydrostatics.buoyancyForce == (*rule)->buoyancyForce);
     CHECK(results[0].hydrostatics.torqueAboutCenterOfMass == (*rule)->torqueAboutCenterOfMass);
     const Expected<HydrostaticsResult> mesh = polyhedralHydrostatics(*prepared, sea, query);

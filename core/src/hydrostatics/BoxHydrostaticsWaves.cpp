@@ -57,18 +57,12 @@ FaceAxes faceAxes(const Eigen::Vector3d& first, const Eigen::Vector3d& second) {
   return {(steep.y() >= 0.0 ? 1.0 : -1.0) * steep / b, flat / a, a, b};
 }
 
-}  // namespace
-
-std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vector3d& halfExtents,
-                                                                const Eigen::Vector3d& center,
-                                                                const LiquidSurface& surface,
-                                                                const HydrostaticsQuery& query,
-                                                                std::optional<SurfaceJetGrid>* keep, BoxQuadrature rule,
-                                                                BoxQuadrature* used) {
-  if (!keep) {  // a grid of its own (declared only here: GCC zero-fills an empty optional of its 60 KiB)
-    std::optional<SurfaceJetGrid> own;
-    return waveBoxHydrostatics(halfExtents, center, surface, query, &own, rule, used);
-  }
+/// waveBoxHydrostatics with a grid to keep (`keep`, not null) and its nodes (`nodes`, cleared by the caller).
+std::optional<Expected<HydrostaticsResult>> waveBoxRule(const Eigen::Vector3d& halfExtents, const Eigen::Vector3d& center,
+                                                        const LiquidSurface& surface, const HydrostaticsQuery& query,
+                                                        std::optional<SurfaceJetGrid>* keep, BoxQuadrature rule,
+                                                        BoxQuadrature* used, std::vector<WettedNode>* nodes,
+                                                        BoxQuadrature dragRule) {
   if (Status valid = validateHydrostaticsQuery(surface, query); !valid) return Expected<HydrostaticsResult>(valid.error());
   const std::optional<SurfaceSmoothness> smooth = surface.smoothness(query.time);
   if (!surface.hasFreeSurface() || !smooth || !(smooth->third >= 0.0) || !(smooth->fourth >= 0.0) ||
@@ -153,6 +147,10 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   };
   const GaussRule& across = gaussRule(rule.across);
   const GaussRule& along = gaussRule(rule.along);
+  dragRule.across = std::clamp(dragRule.across, 1, kMaxGaussNodes);
+  dragRule.along = std::clamp(dragRule.along, 1, kMaxGaussNodes);
+  const GaussRule& dragAcross = gaussRule(dragRule.across);
+  const GaussRule& dragAlong = gaussRule(dragRule.along);
   WettedSums sums;
   for (int k = 0; k < 3; ++k)
     for (const double side : {-1.0, 1.0}) {
@@ -241,52 +239,65 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
         std::sort(cuts + 1, cuts + cutCount);
       }
       cuts[cutCount++] = a;
-      for (int piece = 0; piece + 1 < cutCount; ++piece) {
-        const double from = cuts[piece], length = cuts[piece + 1] - cuts[piece];
-        if (!(length > 0.0)) continue;
-        double lastCrossing = 0.0;
-        for (int i = 0; i < rule.across; ++i) {
-          const double s = from + length * across.node[i], acrossWeight = length * across.weight[i];
-          const Eigen::Vector3d base = faceCenter + s * f;
-          double top = b;
-          if (crossed) {
-            // This line wholly dry, wholly wet, or crossed once: D(t) = h(base + t e) - (base + t e)_y
-            // falls, D(-b) > 0 > D(b), its root by Newton's method in its bracket.
-            const Eigen::Vector3d lower = base - b * e, upper = base + b * e;
-            if (heightAt(lower) - lower.y() <= 0.0) continue;
-            if (heightAt(upper) - upper.y() < 0.0) {
-              double low = -b, high = b, t = std::clamp(lastCrossing, -b, b);
-              for (int iteration = 0; iteration < 60; ++iteration) {
-                const Eigen::Vector3d p = base + t * e;
-                SurfaceJet jet;
-                jetAt(p, jet);
-                const double depth = jet.height - p.y();
-                const double rate = jet.slopeX * e.x() + jet.slopeZ * e.z() - e.y();  // < 0
-                (depth > 0.0 ? low : high) = t;
-                const double step = rate < 0.0 ? depth / rate : INFINITY;
-                if (std::abs(step) < 1e-12 * (1.0 + b)) {
-                  t -= step;
-                  break;
+      // Each piece's lines under a rule (`acrossCount` Gauss-Legendre lines of `acrossRule`,
+      // `alongCount` nodes of `alongRule` on each line's wet part): emit(point, weight, height)
+      // for each node, with the interpolated height above it.
+      const auto walkLines = [&](const GaussRule& acrossRule, int acrossCount, const GaussRule& alongRule, int alongCount,
+                                 auto&& emit) {
+        for (int piece = 0; piece + 1 < cutCount; ++piece) {
+          const double from = cuts[piece], length = cuts[piece + 1] - cuts[piece];
+          if (!(length > 0.0)) continue;
+          double lastCrossing = 0.0;
+          for (int i = 0; i < acrossCount; ++i) {
+            const double s = from + length * acrossRule.node[i], acrossWeight = length * acrossRule.weight[i];
+            const Eigen::Vector3d base = faceCenter + s * f;
+            double top = b;
+            if (crossed) {
+              // This line wholly dry, wholly wet, or crossed once: D(t) = h(base + t e) - (base + t e)_y
+              // falls, D(-b) > 0 > D(b), its root by Newton's method in its bracket.
+              const Eigen::Vector3d lower = base - b * e, upper = base + b * e;
+              if (heightAt(lower) - lower.y() <= 0.0) continue;
+              if (heightAt(upper) - upper.y() < 0.0) {
+                double low = -b, high = b, t = std::clamp(lastCrossing, -b, b);
+                for (int iteration = 0; iteration < 60; ++iteration) {
+                  const Eigen::Vector3d p = base + t * e;
+                  SurfaceJet jet;
+                  jetAt(p, jet);
+                  const double depth = jet.height - p.y();
+                  const double rate = jet.slopeX * e.x() + jet.slopeZ * e.z() - e.y();  // < 0
+                  (depth > 0.0 ? low : high) = t;
+                  const double step = rate < 0.0 ? depth / rate : INFINITY;
+                  if (std::abs(step) < 1e-12 * (1.0 + b)) {
+                    t -= step;
+                    break;
+                  }
+                  t = t - step > low && t - step < high ? t - step : 0.5 * (low + high);
+                  if (high - low < 1e-12 * (1.0 + b)) break;
                 }
-                t = t - step > low && t - step < high ? t - step : 0.5 * (low + high);
-                if (high - low < 1e-12 * (1.0 + b)) break;
+                top = std::clamp(t, -b, b);
+                lastCrossing = top;
               }
-              top = std::clamp(t, -b, b);
-              lastCrossing = top;
+            }
+            const double span = top + b;
+            for (int j = 0; j < alongCount; ++j) {
+              const Eigen::Vector3d p = base + (-b + span * alongRule.node[j]) * e;
+              emit(p, acrossWeight * span * alongRule.weight[j], heightAt(p));
             }
           }
-          const double span = top + b;
-          for (int j = 0; j < rule.along; ++j) {
-            const Eigen::Vector3d p = base + (-b + span * along.node[j]) * e;
-            const double area = acrossWeight * span * along.weight[j];
-            const double height = heightAt(p);
-            const double depth = std::max(height - p.y(), 0.0);
-            const Eigen::Vector3d x = p - origin;
-            sums.addElement(x.x(), x.y(), x.z(), area * normal.x(), area * normal.y(), area * normal.z(), area, 1.0, depth,
-                            depth * depth, height - origin.y());
-          }
         }
-      }
+      };
+      walkLines(across, rule.across, along, rule.along, [&](const Eigen::Vector3d& p, double area, double height) {
+        const double depth = std::max(height - p.y(), 0.0);
+        const Eigen::Vector3d x = p - origin;
+        sums.addElement(x.x(), x.y(), x.z(), area * normal.x(), area * normal.y(), area * normal.z(), area, 1.0, depth,
+                        depth * depth, height - origin.y());
+      });
+      // The drag's nodes: the same pieces under its own, coarser rule (the same water line).
+      if (nodes)
+        walkLines(dragAcross, dragRule.across, dragAlong, dragRule.along,
+                  [&](const Eigen::Vector3d& p, double area, double height) {
+                    nodes->push_back(WettedNode{p, area * normal, area, height});
+                  });
     }
   if (failed) return std::nullopt;
   sums.setHydrostaticPressure(surface.density() * query.gravity);
@@ -294,6 +305,26 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   if (!std::isfinite(result.submergedVolume) || !result.centerOfBuoyancy.allFinite() || !result.stiffness.allFinite())
     return Expected<HydrostaticsResult>(Error{"box hydrostatics: non-finite result"});
   return Expected<HydrostaticsResult>(std::move(result));
+}
+
+}  // namespace
+
+std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vector3d& halfExtents,
+                                                                const Eigen::Vector3d& center,
+                                                                const LiquidSurface& surface,
+                                                                const HydrostaticsQuery& query,
+                                                                std::optional<SurfaceJetGrid>* keep, BoxQuadrature rule,
+                                                                BoxQuadrature* used, std::vector<WettedNode>* nodes,
+                                                                BoxQuadrature dragRule) {
+  if (!keep) {  // a grid of its own (declared only here: GCC zero-fills an empty optional of its 60 KiB)
+    std::optional<SurfaceJetGrid> own;
+    return waveBoxHydrostatics(halfExtents, center, surface, query, &own, rule, used, nodes, dragRule);
+  }
+  if (nodes) nodes->clear();
+  std::optional<Expected<HydrostaticsResult>> answer =
+      waveBoxRule(halfExtents, center, surface, query, keep, rule, used, nodes, dragRule);
+  if (nodes && !(answer && *answer)) nodes->clear();  // nodes only with an answer
+  return answer;
 }
 
 }  // namespace hydrotex::detail

@@ -35,13 +35,18 @@ struct BoxQuadrature {
 /// caller takes the exact path on the box's mesh. Errors: an invalid query
 /// (validateHydrostaticsQuery), a surface height above the centre of mass that is not finite. `keep`, when given, receives
 /// the grid of surface jets the heights were interpolated from. `rule`: the nodes (zeros: from the
-/// box's size against the waves); `used`, when given, receives them.
+/// box's size against the waves); `used`, when given, receives them. `nodes`, when given, receives
+/// the drag's nodes (WettedNode, world frame): the same pieces of the same faces under `dragRule`
+/// (Gauss-Legendre lines across each piece, nodes on each line's wet part up to its own water
+/// line), as flatBoxDragNodes' in flat water; emptied where no answer comes.
 std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vector3d& halfExtents,
                                                                 const Eigen::Vector3d& center,
                                                                 const LiquidSurface& surface,
                                                                 const HydrostaticsQuery& query,
                                                                 std::optional<SurfaceJetGrid>* keep = nullptr,
-                                                                BoxQuadrature rule = {}, BoxQuadrature* used = nullptr);
+                                                                BoxQuadrature rule = {}, BoxQuadrature* used = nullptr,
+                                                                std::vector<WettedNode>* nodes = nullptr,
+                                                                BoxQuadrature dragRule = {2, 2});
 
 /// The drag's nodes (WettedNode) on the wetted faces of a box of half extents `halfExtents` (m,
 /// along the columns of `rotation`) centred at `center` (m, world) under a flat surface at `level`

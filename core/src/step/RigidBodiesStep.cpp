@@ -52,7 +52,7 @@ std::optional<detail::SurfaceJetGrid>& threadJetGrid() {
   return grid;
 }
 
-// The nodes of a sphere's rule on its wetted surface, for its drag: one list per thread, reused.
+// The nodes of a sphere's or box's rule on its wetted surface, for its drag: one list per thread, reused.
 std::vector<detail::WettedNode>& threadWettedNodes() {
   static thread_local std::vector<detail::WettedNode> nodes;
   return nodes;
@@ -60,7 +60,8 @@ std::vector<detail::WettedNode>& threadWettedNodes() {
 
 // Body `task`'s hydrostatics on the exact path (or a sphere's closed form) into `out`; false when
 // the query fails. With `jets`, a prepared body's query keeps the surface jets it sampled there.
-// With `nodes`, a sphere whose rule answers under waves gives its nodes there and sets `*onNodes`.
+// With `nodes`, a sphere or box whose rule answers under waves gives its drag's nodes there and
+// sets `*onNodes`.
 bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
                        std::optional<detail::SurfaceJetGrid>* jets, HydrostaticsResult& out,
                        std::vector<detail::WettedNode>* nodes = nullptr, bool* onNodes = nullptr) {
@@ -93,11 +94,13 @@ bool exactHydrostatics(const LiquidSurface& surface, const RigidBodyTask& task,
   if (task.boxHalfExtents && !surface.flatHeight()) {
     std::optional<detail::SurfaceJetGrid>& grid = jets ? *jets : threadJetGrid();
     std::optional<Expected<HydrostaticsResult>> waves =
-        detail::waveBoxHydrostatics(*task.boxHalfExtents, Eigen::Vector3d::Zero(), surface, query, &grid);
+        detail::waveBoxHydrostatics(*task.boxHalfExtents, Eigen::Vector3d::Zero(), surface, query, &grid, {}, nullptr,
+                                    nodes);
     if (!jets) grid.reset();  // it refers to the surface
     if (waves) {
       if (!*waves) return false;
       out = **waves;
+      if (onNodes) *onNodes = nodes != nullptr;
       return true;
     }
   }
@@ -252,14 +255,15 @@ void RigidBodiesStep::update(const Batch& batch, std::size_t i) {
         // Under waves a prepared body's query keeps the surface jets it sampled, and its drag is
         // summed here, after it, reading its heights from them (the drag's own grid took 23-36
         // jets on bench_peers' box and hull under its three waves, ~150 ns each).
-        // A sphere whose rule answered sums its drag on the rule's nodes instead: the pieces its
-        // buoyancy used (issue 19 item 3), wet to the water line, where its 17,160-triangle mesh's
-        // patches asked the jets again.
+        // A sphere or box whose rule answered sums its drag on the rule's nodes instead: the pieces
+        // its buoyancy used (issue 19 item 3), wet to the water line, where its mesh's patches
+        // asked the jets again (the sphere's 17,160 triangles; the box's 64 patches, up to 24 %
+        // off the law's integral under bench_peers' waves, test_rigid_body_step).
         std::optional<detail::SurfaceJetGrid>& jets = threadJetGrid();
         std::vector<detail::WettedNode>& nodes = threadWettedNodes();
         bool onNodes = false;
         haveHydrostatics = exactHydrostatics(batch.surface, task, &jets, result.hydrostatics,
-                                             task.sphereRadius ? &nodes : nullptr, &onNodes);
+                                             task.sphereRadius || task.boxHalfExtents ? &nodes : nullptr, &onNodes);
         drag_[i] = onNodes ? detail::rigidBodyDragOnNodes(*task.input.drag, task.motion, task.input.liquid, batch.dt, nodes)
                            : detail::rigidBodyDrag(*task.input.drag, task.motion, task.input.liquid, batch.dt,
                                                    jets ? &*jets : nullptr);
