@@ -204,8 +204,9 @@ class PosedDragColumns {
   std::uint32_t count_ = 0;
 };
 
-// Not inlined: inlined, GCC took the columns' thread-local address (__tls_get_addr, in a shared
-// library) again at every patch added, 360 instructions of a box's 20-node drag.
+// Not inlined: inlined into rigidBodyDragOnNodes, GCC took the columns' thread-local address
+// (__tls_get_addr, in a shared library) again at every node added, 360 instructions of a box's
+// 20-node drag.
 [[gnu::noinline]] PosedDragColumns& posedDragScratch() {
   thread_local PosedDragColumns columns;
   return columns;
