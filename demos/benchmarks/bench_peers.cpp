@@ -18,7 +18,8 @@
 // solves it), "mdrag us" rigidBodyDrag on meshDragPatches with the law's whole derivative (what
 // the controller makes for a rigid body, on either path, no bake) and "drag us" the same law on
 // texel patches from a 256^2 bake with the secant damping (what a deforming body takes); the rest
-// of "ours" is the controller's own (Bullet reads and writes).
+// of "ours" is the controller's own (Bullet reads and writes). "d/b": a row with drag against the
+// same body's row without (issue 19: drag at the price of buoyancy, at most 1.5x).
 //
 // Options: --runs N (5), --steps S (60 timed steps after 10 of warm-up), --csv FILE
 // (bench_peers.csv), --bodies LIST (box,hull,sphere,mesh), --methods LIST (exact,texture,auto),
@@ -418,14 +419,15 @@ int main(int argc, char** argv) {
   std::ofstream csv(csvPath);
   csv << "body,triangles,method,resolved,surface,effects,runs,bodies,controller_us_per_body_step,peer,peer_us,goal_us,"
          "ratio_to_goal,exact_hydrostatics_us,prepared_exact_us,sphere_closed_form_us,drag_us,texel_patches,mesh_patch_drag_us,"
-         "mesh_patches,implicit_update_us,queries_per_step,mean_abs_vy\n";
+         "mesh_patches,implicit_update_us,queries_per_step,mean_abs_vy,drag_to_buoyancy,drag_to_buoyancy_goal\n";
   std::printf("%d awake bodies, 60 Hz, 1 thread, controller's updateAction per body per step (us), median of %d passes "
               "of %d steps, textures %d^2\n",
               kBodies, runs, steps, resolution);
-  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %9s %8s %7s\n", "body", "tris",
+  std::printf("%-7s %6s %-8s %-8s %-6s %-14s %9s %11s %9s %7s %9s %8s %8s %8s %9s %9s %8s %7s %5s\n", "body", "tris",
               "method", "runs as", "water", "effects", "ours us", "peer", "goal us", "ratio", "exact us", "prep us", "closed",
-              "drag us", "mdrag us", "update us", "query/st", "|vy|m/s");
+              "drag us", "mdrag us", "update us", "query/st", "|vy|m/s", "d/b");
   std::map<std::string, double> flatFigure;
+  constexpr double kDragToBuoyancyGoal = 1.5;  // issue 19 item 3
   for (const std::string& surface : surfaces) {
     const Scene& scene = scenes.at(surface);
     for (const std::string& bodyName : bodies) {
@@ -444,6 +446,7 @@ int main(int argc, char** argv) {
       for (const PeerFigure& figure : kPeers)
         if (bodyName == figure.body) peer = &figure;
       for (const std::string& method : methods) {
+        double buoyancyFigure = 0.0;  // this body's and method's row without drag
         for (const bool drag : {false, true}) {
           const Case c{bodyName, method, surface, drag, resolution};
           std::vector<double> ours, hydro, preparedUs, closedUs, dragUs, meshDragUs, updateUs, queries, speeds;
@@ -473,17 +476,22 @@ int main(int argc, char** argv) {
             peerText = "2x flat";
           }
           const double ratio = goal > 0.0 ? figure / goal : 0.0;
+          // The row with drag against the same body's row without, run just before it.
+          if (!drag) buoyancyFigure = figure;
+          const double dragToBuoyancy = drag && buoyancyFigure > 0.0 ? figure / buoyancyFigure : 0.0;
           const char* effects = drag ? "buoyancy+drag" : "buoyancy";
-          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %9.3f %8.1f %7.3f\n",
+          std::printf("%-7s %6zu %-8s %-8s %-6s %-14s %9.3f %11s %9.3f %7.2f %9.3f %8.3f %8.3f %8.3f %9.3f %9.3f %8.1f %7.3f %5s\n",
                       bodyName.c_str(), last.triangles, method.c_str(), last.resolved.c_str(), surface.c_str(), effects,
                       figure, peerText.c_str(), goal, ratio, median(hydro), median(preparedUs), median(closedUs),
-                      median(dragUs), median(meshDragUs), median(updateUs), median(queries), median(speeds));
+                      median(dragUs), median(meshDragUs), median(updateUs), median(queries), median(speeds),
+                      drag ? std::to_string(dragToBuoyancy).substr(0, 4).c_str() : "-");
           std::fflush(stdout);
           csv << bodyName << ',' << last.triangles << ',' << method << ',' << last.resolved << ',' << surface << ','
               << effects << ',' << runs << ',' << kBodies << ',' << figure << ',' << peerText << ',' << peerUs << ','
               << goal << ',' << ratio << ',' << median(hydro) << ',' << median(preparedUs) << ',' << median(closedUs) << ','
               << median(dragUs) << ',' << last.texelPatches << ',' << median(meshDragUs) << ',' << last.meshPatches << ','
-              << median(updateUs) << ',' << median(queries) << ',' << median(speeds) << '\n';
+              << median(updateUs) << ',' << median(queries) << ',' << median(speeds) << ',' << dragToBuoyancy << ','
+              << (drag ? kDragToBuoyancyGoal : 0.0) << '\n';
         }
       }
     }
