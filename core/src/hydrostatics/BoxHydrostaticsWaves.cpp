@@ -27,6 +27,9 @@
 /// Otherwise (a face the water line crosses that lies too flat against the waves: a level box's
 /// bottom or top in the water line, bench_peers' bobbing boxes one query in five) the rule is not
 /// used: the caller takes the exact path on the mesh.
+/// The body's drag takes nodes of the same pieces under a coarser rule (2 x 2 a piece), each line
+/// wet up to its own water line; in flat water (flatBoxDragNodes) the water line on a face is
+/// straight and its pieces follow from where it meets the face's sides.
 
 #include "hydrostatics/BoxHydrostaticsWaves.hpp"
 
@@ -326,10 +329,6 @@ std::optional<Expected<HydrostaticsResult>> waveBoxHydrostatics(const Eigen::Vec
   if (nodes && !(answer && *answer)) nodes->clear();  // nodes only with an answer
   return answer;
 }
-
-}  // namespace hydrotex::detail
-
-namespace hydrotex::detail {
 
 void flatBoxDragNodes(const Eigen::Vector3d& halfExtents, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& center,
                       double level, std::vector<WettedNode>& nodes, BoxQuadrature rule) {

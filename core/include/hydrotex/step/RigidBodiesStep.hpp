@@ -105,9 +105,10 @@ class RigidBodiesStep {
   /// body on the prepared exact path has its drag summed after its query instead, reading the
   /// surface's heights from the jets the query sampled (within the drag's height error, 1e-4 m)
   /// rather than sampling its own; a sphere or box whose own rule answered (sphereRadius,
-  /// boxHalfExtents) sums it on that rule's nodes of its wetted surface instead of its patches. Each result depends only on its own task, so the results are
-  /// the same for every thread count. Writes min(tasks.size(), results.size()) results. Never
-  /// throws; failures are counted in each body's counters.
+  /// boxHalfExtents) sums it on that rule's nodes of its wetted surface instead of its patches.
+  /// Each result depends only on its own task, so the results are the same for every thread
+  /// count. Writes min(tasks.size(), results.size()) results. Never throws; failures are counted
+  /// in each body's counters.
   RigidBodiesStepStatistics run(ComputeBackend& backend, const LiquidSurface& surface,
                                 std::span<const RigidBodyTask> tasks, std::span<RigidBodyTaskResult> results,
                                 const ParallelFor& parallelFor, double dt);
