@@ -87,18 +87,19 @@ RigidBodyMotion cube(double mass) {
 struct NodeDragDifferences {
   double force = 0.0, torque = 0.0, damping = 0.0, wetted = 0.0, coarse = 0.0, fine = 0.0;
 
-  /// One state's differences, also kept in the worst.
-  NodeDragDifferences add(const DragLoads& onNodes, const DragLoads& converged, const DragBody& coarseBody,
-                          const DragBody& fineBody, const RigidBodyMotion& motion, const DragLiquid& liquid,
-                          double length) {
+  /// One state's differences (the converged drag large enough to compare against), also kept in
+  /// the worst.
+  NodeDragDifferences add(const DragLoads& onNodes, const DragLoads& converged, const PatchBodies& bodies,
+                          const RigidBodyMotion& motion, const DragLiquid& liquid, double length) {
     const double scale = converged.force.norm();
+    REQUIRE(scale > 1.0);
     NodeDragDifferences one;
     one.force = (onNodes.force - converged.force).norm() / scale;
     one.torque = (onNodes.torque - converged.torque).norm() / (scale * length);
     one.damping = (onNodes.damping - converged.damping).norm() / converged.damping.norm();
     one.wetted = std::abs(onNodes.wettedArea - converged.wettedArea) / converged.wettedArea;
-    one.coarse = (rigidBodyDrag(coarseBody, motion, liquid, kDtForDrag).force - converged.force).norm() / scale;
-    one.fine = (rigidBodyDrag(fineBody, motion, liquid, kDtForDrag).force - converged.force).norm() / scale;
+    one.coarse = (rigidBodyDrag(bodies.coarse, motion, liquid, kDtForDrag).force - converged.force).norm() / scale;
+    one.fine = (rigidBodyDrag(bodies.fine, motion, liquid, kDtForDrag).force - converged.force).norm() / scale;
     force = std::max(force, one.force);
     torque = std::max(torque, one.torque);
     damping = std::max(damping, one.damping);
@@ -828,8 +829,7 @@ TEST_CASE("a sphere's drag on its rule's nodes under waves is the law's integral
     CHECK(nodes.size() == 8u * 4u);  // the default rule, 16 x 8, for this sphere in this sea
     const DragLoads onNodes = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
     CHECK(onNodes.patchesVisited == nodes.size());
-    REQUIRE(converged.force.norm() > 1.0);
-    const NodeDragDifferences one = worst.add(onNodes, converged, bodies.coarse, bodies.fine, motion, liquid, r);
+    const NodeDragDifferences one = worst.add(onNodes, converged, bodies, motion, liquid, r);
     CHECK(one.force <= 5e-3);
     CHECK(one.torque <= 5e-5);
     CHECK(one.damping <= 1.5e-2);
@@ -879,11 +879,10 @@ TEST_CASE("a sphere's drag on its cap's nodes in flat water is the law's integra
     detail::flatSphereDragNodes(r, motion.center, 0.0, nodes);
     CHECK(nodes.size() == 8u * 4u);
     const DragLoads onNodes = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
-    REQUIRE(converged.force.norm() > 1.0);
     // The wetted area is the cap's, 2 pi r (r + level - y_c): four Gauss nodes integrate sin(theta)
     // over the wet arc within 2.1e-7 of it here.
     CHECK(onNodes.wettedArea == Approx(2.0 * 3.14159265358979 * r * (r - motion.center.y())).epsilon(1e-6));
-    const NodeDragDifferences one = worst.add(onNodes, converged, bodies.coarse, bodies.fine, motion, liquid, r);
+    const NodeDragDifferences one = worst.add(onNodes, converged, bodies, motion, liquid, r);
     CHECK(one.force <= 5e-3);
     CHECK(one.torque <= 5e-5);
     CHECK(one.damping <= 1.5e-2);
@@ -967,7 +966,6 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
     const DragLoads converged = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
     detail::flatBoxDragNodes(half, motion.meshPose.rotation, motion.center, 0.0, nodes);
     const DragLoads onNodes = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
-    REQUIRE(converged.force.norm() > 1.0);
     // Each line's wet part and each piece's span are linear, so every rule gives the wetted area
     // (the faces' rectangles clipped at the level) to rounding.
     const double wetted = boxWettedArea(half, motion.meshPose.rotation, motion.center, 0.0);
@@ -977,7 +975,7 @@ TEST_CASE("a box's drag on its faces' nodes in flat water is the law's integral,
     const DragLoads viaBody = rigidBodyDrag(box, motion, liquid, kDtForDrag);
     CHECK((viaBody.force - onNodes.force).norm() <= 1e-12 * onNodes.force.norm());
     CHECK(viaBody.patchesVisited == nodes.size());
-    const NodeDragDifferences one = worst.add(onNodes, converged, bodies.coarse, bodies.fine, motion, liquid, length);
+    const NodeDragDifferences one = worst.add(onNodes, converged, bodies, motion, liquid, length);
     detail::flatBoxDragNodes(half, motion.meshPose.rotation, motion.center, 0.0, nodes);
     CHECK(one.force <= 8e-3);
     CHECK(one.torque <= 5e-3);
@@ -1048,8 +1046,7 @@ TEST_CASE("a box's drag on its rule's nodes under waves is the law's integral, w
     REQUIRE(detail::waveBoxHydrostatics(half, Eigen::Vector3d::Zero(), sea, query, &grid, {}, nullptr, &nodes));
     const DragLoads onNodes = detail::rigidBodyDragOnNodes(bodies.coarse, motion, liquid, kDtForDrag, nodes);
     CHECK(onNodes.patchesVisited == nodes.size());
-    REQUIRE(converged.force.norm() > 1.0);
-    const NodeDragDifferences one = worst.add(onNodes, converged, bodies.coarse, bodies.fine, motion, liquid, length);
+    const NodeDragDifferences one = worst.add(onNodes, converged, bodies, motion, liquid, length);
     CHECK(one.force <= 1e-2);
     CHECK(one.torque <= 8e-3);
     CHECK(one.damping <= 2e-2);
